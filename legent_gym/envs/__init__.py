@@ -1,0 +1,1 @@
+"""legent_gym.envs (see the package docstring)."""

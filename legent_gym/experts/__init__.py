@@ -1,0 +1,1 @@
+"""legent_gym.experts (see the package docstring)."""

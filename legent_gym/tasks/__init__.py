@@ -1,0 +1,1 @@
+"""legent_gym.tasks (see the package docstring)."""

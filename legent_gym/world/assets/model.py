@@ -1,0 +1,206 @@
+"""What an asset is once made: low-poly coloured meshes grouped into links, plus annotations.
+
+An :class:`AssetModel` is engine-agnostic geometry. The builder turns each link into a
+MuJoCo body (the ``base`` link, plus one body per door or drawer with its joint), each
+link's visual parts into one mesh geom (coloured through a shared palette texture, so one
+geom per link keeps the draw count low and the object's identity for segmentation), and
+each part's collision shape into a collision geom.
+
+Asset frame: z up, origin at the centre of the footprint on the floor, the front (where a
+person stands to use it) facing +y. Units: metres.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Literal
+
+import numpy as np
+
+Placement = Literal["wall", "corner", "middle", "surface"]
+
+
+@dataclass
+class Part:
+    """One rigid piece of geometry with one colour (or one texture), in its link's frame."""
+
+    vertices: np.ndarray  # (N, 3) float64
+    faces: np.ndarray  # (M, 3) int32
+    rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.7, 1.0)
+    #: "box": collide with the part's axis-aligned bounding box (exact for box parts);
+    #: "hull": its convex hull; "none": visual only.
+    collision: Literal["box", "hull", "none"] = "hull"
+    uv: np.ndarray | None = None  # (N, 2) texture coordinates, v pointing up
+    texture: np.ndarray | None = None  # (H, W, 3) uint8 image, for imported assets
+    material: str = "plain"  # style hint: wood, fabric, metal, plastic, ceramic, glass, ...
+
+    def __post_init__(self) -> None:
+        self.vertices = np.asarray(self.vertices, dtype=np.float64).reshape(-1, 3)
+        self.faces = np.asarray(self.faces, dtype=np.int32).reshape(-1, 3)
+        if self.uv is not None:
+            self.uv = np.asarray(self.uv, dtype=np.float64).reshape(-1, 2)
+
+    def bounds(self) -> np.ndarray:
+        return np.stack([self.vertices.min(axis=0), self.vertices.max(axis=0)])
+
+    def transformed(self, matrix: np.ndarray) -> Part:
+        """A copy with vertices mapped by a 4x4 homogeneous transform."""
+        v = self.vertices @ matrix[:3, :3].T + matrix[:3, 3]
+        faces = self.faces if np.linalg.det(matrix[:3, :3]) > 0 else self.faces[:, ::-1]
+        return Part(v, faces.copy(), self.rgba, self.collision, self.uv, self.texture, self.material)
+
+
+@dataclass
+class Joint:
+    """The joint that moves a link relative to the base: a door hinge or a drawer slide."""
+
+    kind: Literal["hinge", "slide"]
+    axis: tuple[float, float, float]
+    range: tuple[float, float]  # radians (hinge) or metres (slide); closed is 0
+    damping: float = 2.0
+
+
+@dataclass
+class Link:
+    name: str  # "base", "door_0", "drawer_1", ...
+    parts: list[Part]
+    #: Origin of the link frame in the asset frame (the hinge axis point for a door).
+    pos: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    joint: Joint | None = None
+
+
+@dataclass
+class Receptacle:
+    """A flat rectangle where things can be put, in the frame of ``link``.
+
+    ``center`` is (x, y) of the rectangle, ``half_size`` its half extents, ``height`` the
+    z of the surface. Inside a drawer or cabinet, ``clearance`` is the free height above.
+    """
+
+    name: str
+    center: tuple[float, float]
+    half_size: tuple[float, float]
+    height: float
+    link: str = "base"
+    clearance: float = 1.0
+
+    @property
+    def area(self) -> float:
+        return 4.0 * self.half_size[0] * self.half_size[1]
+
+
+@dataclass
+class AssetModel:
+    asset_id: str
+    category: str
+    links: list[Link]
+    names: list[str] = field(default_factory=list)  # what people call it, first is canonical
+    receptacles: list[Receptacle] = field(default_factory=list)
+    pickupable: bool = False
+    mass: float = 10.0
+    rooms: list[str] = field(default_factory=list)  # room types it belongs in ([] = any)
+    placement: Placement = "wall"
+    #: Extra free space needed in front of the asset (to use it: sit, open a door).
+    front_clearance: float = 0.5
+
+    def __post_init__(self) -> None:
+        if not self.names:
+            self.names = [self.category.replace("_", " ")]
+
+    @property
+    def base(self) -> Link:
+        return self.link("base")
+
+    def link(self, name: str) -> Link:
+        for link in self.links:
+            if link.name == name:
+                return link
+        raise KeyError(f"asset {self.asset_id!r} has no link {name!r}")
+
+    def bounds(self) -> np.ndarray:
+        """[[xmin, ymin, zmin], [xmax, ymax, zmax]] of all parts at the joints' zero."""
+        pts = [p.vertices + np.asarray(link.pos) for link in self.links for p in link.parts]
+        allv = np.concatenate(pts)
+        return np.stack([allv.min(axis=0), allv.max(axis=0)])
+
+    @property
+    def size(self) -> np.ndarray:
+        b = self.bounds()
+        return b[1] - b[0]
+
+    def triangle_count(self) -> int:
+        return sum(len(p.faces) for link in self.links for p in link.parts)
+
+    def scaled(self, scale: tuple[float, float, float]) -> AssetModel:
+        """A copy with all geometry and annotations scaled (about the asset origin)."""
+        s = np.asarray(scale, dtype=np.float64)
+        if np.allclose(s, 1.0):
+            return self
+        mat = np.diag([*s, 1.0])
+        links = []
+        for link in self.links:
+            joint = link.joint
+            if joint is not None and joint.kind == "slide":
+                factor = float(np.abs(np.asarray(joint.axis) * s).sum())
+                joint = Joint(joint.kind, joint.axis, (joint.range[0] * factor, joint.range[1] * factor), joint.damping)
+            links.append(Link(link.name, [p.transformed(mat) for p in link.parts],
+                              tuple(np.asarray(link.pos) * s), joint))
+        recs = [Receptacle(r.name, (r.center[0] * s[0], r.center[1] * s[1]),
+                           (r.half_size[0] * s[0], r.half_size[1] * s[1]), r.height * s[2], r.link,
+                           r.clearance * s[2]) for r in self.receptacles]
+        return AssetModel(self.asset_id, self.category, links, list(self.names), recs, self.pickupable,
+                          self.mass * float(np.prod(s)), list(self.rooms), self.placement,
+                          self.front_clearance)
+
+
+# ---------------------------------------------------------------------------------------
+# Low-poly primitive parts. Counts are kept small: triangles are what costs render time.
+
+
+def box_part(center, size, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="box", material="plain") -> Part:
+    """An axis-aligned box, 12 triangles."""
+    c = np.asarray(center, dtype=np.float64)
+    h = np.asarray(size, dtype=np.float64) / 2.0
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=np.float64)
+    v = c + corners * h
+    faces = np.array([
+        [0, 1, 3], [0, 3, 2],  # -x
+        [4, 6, 7], [4, 7, 5],  # +x
+        [0, 4, 5], [0, 5, 1],  # -y
+        [2, 3, 7], [2, 7, 6],  # +y
+        [0, 2, 6], [0, 6, 4],  # -z
+        [1, 5, 7], [1, 7, 3],  # +z
+    ], dtype=np.int32)
+    return Part(v, faces, tuple(rgba), collision, material=material)
+
+
+def cylinder_part(center, radius, height, rgba=(0.7, 0.7, 0.7, 1.0), *, segments=10,
+                  collision="hull", material="plain", radius_top=None) -> Part:
+    """A z-aligned cylinder (or a truncated cone with ``radius_top``) centred at ``center``."""
+    c = np.asarray(center, dtype=np.float64)
+    rt = radius if radius_top is None else radius_top
+    ang = np.linspace(0.0, 2 * np.pi, segments, endpoint=False)
+    ring = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    bottom = np.column_stack([ring * radius, np.full(segments, -height / 2)])
+    top = np.column_stack([ring * rt, np.full(segments, height / 2)])
+    v = np.concatenate([bottom, top, [[0, 0, -height / 2], [0, 0, height / 2]]]) + c
+    faces = []
+    nb, nt = 2 * segments, 2 * segments + 1
+    for i in range(segments):
+        j = (i + 1) % segments
+        faces += [[i, j, segments + j], [i, segments + j, segments + i], [nb, j, i], [nt, segments + i, segments + j]]
+    return Part(v, np.array(faces, dtype=np.int32), tuple(rgba), collision, material=material)
+
+
+def sphere_part(center, radius, rgba=(0.7, 0.7, 0.7, 1.0), *, scale=(1.0, 1.0, 1.0), subdivisions=1,
+                collision="hull", material="plain") -> Part:
+    """An icosphere (80 triangles at one subdivision), optionally stretched into an ellipsoid."""
+    import trimesh
+
+    mesh = trimesh.creation.icosphere(subdivisions=subdivisions, radius=radius)
+    v = np.asarray(mesh.vertices) * np.asarray(scale) + np.asarray(center, dtype=np.float64)
+    return Part(v, np.asarray(mesh.faces, dtype=np.int32), tuple(rgba), collision, material=material)
+
+
+def mesh_part(vertices, faces, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="hull", material="plain") -> Part:
+    return Part(np.asarray(vertices), np.asarray(faces), tuple(rgba), collision, material=material)

@@ -1,0 +1,556 @@
+"""Builder: scene -> MjSpec -> compiled model, built for rendering speed on a CPU.
+
+What it makes (see ``docs/architecture.md``):
+
+* The house shell (all floors, all walls, all ceilings) as three merged meshes, coloured
+  through the shared palette texture; collision from boxes.
+* One body per object. Its visual is one mesh geom per link (so identity survives for
+  segmentation); collision geoms from the asset parts (exact boxes or convex hulls),
+  invisible. Interactable objects get a free joint; furniture is welded to the world;
+  doors and drawers of furniture are child bodies with hinge or slide joints.
+* One body per door leaf, on a hinge joint in its wall opening.
+* The agent and the user: mocap bodies (kinematic, moved by the environment) with a simple
+  avatar each, and a head camera each (``agent_camera``, ``user_camera``) on separate head
+  mocap bodies so yaw and pitch are set directly.
+
+Geom groups (used to show or hide things per view): 0 house and furniture, 1 small
+objects, 2 ceilings, 3 collision only (never drawn), 4 agent avatar, 5 user avatar.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from legent_gym.world.assets import registry
+from legent_gym.world.assets.model import AssetModel, Part
+from legent_gym.world.meshing import MeshAccumulator, MeshData, Palette, polygon_surface, wall_piece_box, wall_pieces
+from legent_gym.world.scene import Scene, scene_base_dir
+
+GROUP_HOUSE, GROUP_OBJECTS, GROUP_CEILING, GROUP_COLLISION, GROUP_AGENT, GROUP_USER = range(6)
+
+FLOOR_THICKNESS = 0.05
+DOOR_LEAF_THICKNESS = 0.04
+
+
+@dataclass(frozen=True)
+class BodyOptions:
+    """The agent's (and user's) body: a person-sized cylinder with a head camera."""
+
+    radius: float = 0.25
+    height: float = 1.6
+    camera_height: float = 1.5
+    fovy: float = 90.0
+
+
+@dataclass(frozen=True)
+class BuildOptions:
+    agent: BodyOptions = BodyOptions()
+    user: BodyOptions = BodyOptions(radius=0.22, height=1.7, camera_height=1.6)
+    with_ceiling: bool = True
+    #: Offscreen buffer size the model asks for; renderers resize it to their image size.
+    offscreen_size: int = 96
+    timestep: float = 0.004
+    max_hull_vertices: int = 32
+    #: One geom per part with plain colours and default visual settings: the slow reference
+    #: the render benchmark compares against. Never use it for observations.
+    naive: bool = False
+
+
+@dataclass
+class World:
+    """A built scene: the MuJoCo model and data, and maps back to scene ids.
+
+    The map arrays are what tasks, experts and segmentation read: ``geom_object[g]`` is the
+    scene object id of geom ``g`` (-1 for house, doors, avatars); ``object_body[id]`` the
+    body of an object; ``door_joint[door_id]`` the hinge joint of a door leaf.
+    """
+
+    scene: Scene
+    model: mujoco.MjModel
+    data: mujoco.MjData
+    assets: dict[int, AssetModel]
+    object_body: dict[int, int]
+    object_joints: dict[int, dict[str, int]]
+    door_joint: dict[str, int]
+    door_body: dict[str, int]
+    geom_object: np.ndarray
+    geom_door: dict[int, str]
+    palette: Palette
+    options: BuildOptions
+    free_objects: list[int] = field(default_factory=list)
+
+    # -- poses of the kinematic bodies ---------------------------------------------------
+    def set_body_pose(self, name: str, x: float, y: float, yaw_deg: float, pitch_deg: float = 0.0) -> None:
+        """Place an avatar (``agent``/``user``) and its head camera. yaw 0 looks along +x."""
+        opts = self.options.agent if name == "agent" else self.options.user
+        body = self.model.body(name)
+        head = self.model.body(f"{name}_head")
+        self.data.mocap_pos[body.mocapid[0]] = (x, y, 0.0)
+        self.data.mocap_quat[body.mocapid[0]] = yaw_quat(yaw_deg)
+        self.data.mocap_pos[head.mocapid[0]] = (x, y, opts.camera_height)
+        self.data.mocap_quat[head.mocapid[0]] = camera_quat(yaw_deg, pitch_deg)
+
+    def object_position(self, object_id: int) -> np.ndarray:
+        return self.data.xpos[self.object_body[object_id]].copy()
+
+    def geom_object_lookup(self, geom_ids: np.ndarray) -> np.ndarray:
+        """Scene object ids for an array of geom ids (-1 stays -1)."""
+        return np.where(geom_ids >= 0, self.geom_object[np.maximum(geom_ids, 0)], -1).astype(np.int32)
+
+    def forward(self) -> None:
+        mujoco.mj_kinematics(self.model, self.data)
+        mujoco.mj_camlight(self.model, self.data)
+
+
+def yaw_quat(yaw_deg: float) -> np.ndarray:
+    half = math.radians(yaw_deg) / 2
+    return np.array([math.cos(half), 0.0, 0.0, math.sin(half)])
+
+
+def camera_quat(yaw_deg: float, pitch_deg: float) -> np.ndarray:
+    """Orientation of a MuJoCo camera (looks along its -z, up +y) for a heading and pitch.
+
+    yaw 0 looks along world +x; positive pitch looks down (LEGENT's rotate_down).
+    """
+    yaw, pitch = math.radians(yaw_deg), math.radians(pitch_deg)
+    forward = np.array([math.cos(yaw) * math.cos(pitch), math.sin(yaw) * math.cos(pitch), -math.sin(pitch)])
+    right = np.array([math.sin(yaw), -math.cos(yaw), 0.0])
+    up = np.cross(right, forward)
+    rot = np.column_stack([right, up, -forward])  # camera x, y, z axes in world
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, rot.reshape(-1))
+    return quat
+
+
+def euler_deg_quat(rotation) -> np.ndarray:
+    quat = np.empty(4)
+    mujoco.mju_euler2Quat(quat, np.radians(np.asarray(rotation, dtype=np.float64)), "xyz")
+    return quat
+
+
+class SceneBuildError(ValueError):
+    """A valid scene that MuJoCo cannot build (e.g. a degenerate imported mesh)."""
+
+
+# ---------------------------------------------------------------------------------------
+
+
+class _SpecBuilder:
+    def __init__(self, scene: Scene, options: BuildOptions):
+        self.scene = scene
+        self.options = options
+        self.spec = mujoco.MjSpec()
+        self.palette = Palette()
+        self.assets: dict[int, AssetModel] = {}
+        # Geoms whose palette UVs must be filled in once the palette is complete.
+        self._pending_meshes: list[tuple[mujoco.MjsMesh, MeshData]] = []
+        self._geom_owner: list[tuple[str, object]] = []  # (kind, id) by geom name order
+        self._mesh_count = 0
+        self._texture_count = 0
+
+    # -- top level ----------------------------------------------------------------------
+    def build(self) -> tuple[mujoco.MjSpec, Palette]:
+        self._configure()
+        self._add_shell()
+        for door in self.scene.doors:
+            if door.leaf:
+                self._add_door_leaf(door)
+        for obj in self.scene.objects:
+            self._add_object(obj)
+        self._add_avatar("agent", self.options.agent, (0.25, 0.35, 0.6, 1.0), GROUP_AGENT)
+        self._add_avatar("user", self.options.user, (0.8, 0.45, 0.3, 1.0), GROUP_USER)
+        self._add_lights()
+        self._finish_palette()
+        return self.spec, self.palette
+
+    def _configure(self) -> None:
+        spec = self.spec
+        spec.modelname = "house"
+        spec.option.timestep = self.options.timestep
+        spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+        spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_SLEEP  # resting objects cost nothing
+        spec.compiler.degree = False
+        q = spec.visual.quality
+        g = spec.visual.global_
+        if not self.options.naive:
+            q.shadowsize = 0
+            q.offsamples = 0
+            q.numslices = 8
+            q.numstacks = 4
+            g.offwidth = self.options.offscreen_size
+            g.offheight = self.options.offscreen_size
+        spec.visual.map.znear = 0.01
+        spec.visual.map.zfar = 50
+        ambient = self.scene.style.ambient
+        spec.visual.headlight.ambient = list(ambient)
+        spec.visual.headlight.diffuse = [0.25, 0.25, 0.25]
+        spec.visual.headlight.specular = [0.0, 0.0, 0.0]
+        if not self.options.naive:
+            tex = spec.add_texture(name="palette", type=mujoco.mjtTexture.mjTEXTURE_2D,
+                                   width=self.palette.size, height=self.palette.size, nchannel=3)
+            self._palette_texture = tex
+            mat = spec.add_material(name="palette", specular=0.1, shininess=0.2)
+            mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "palette"
+
+    # -- geometry helpers ------------------------------------------------------------------
+    def _mesh_geom(self, body, mesh: MeshData, *, group: int, owner: tuple[str, object], name: str) -> None:
+        """A visual-only mesh geom coloured through the palette."""
+        m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
+        self._mesh_count += 1
+        m.uservert = mesh.vertices.reshape(-1).tolist()
+        m.userface = mesh.faces.reshape(-1).tolist()
+        m.usernormal = mesh.normals.reshape(-1).tolist()
+        m.userfacenormal = np.repeat(np.arange(mesh.n_faces), 3).tolist()
+        m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+        self._pending_meshes.append((m, mesh))
+        geom = body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material="palette",
+                             contype=0, conaffinity=0, group=group, density=0, name=name)
+        self._geom_owner.append(owner)
+        return geom
+
+    def _plain_geom(self, body, part: Part, *, group: int, owner, name: str) -> None:
+        """Naive build: one geom per part with its own colour."""
+        m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
+        self._mesh_count += 1
+        m.uservert = part.vertices.reshape(-1).tolist()
+        m.userface = part.faces.reshape(-1).tolist()
+        m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, rgba=list(part.rgba),
+                      contype=0, conaffinity=0, group=group, density=0, name=name)
+        self._geom_owner.append(owner)
+
+    def _textured_geom(self, body, part: Part, *, group: int, owner, name: str) -> None:
+        """An imported part with its own base-colour texture."""
+        tname = f"tex_{self._texture_count}"
+        self._texture_count += 1
+        img = np.ascontiguousarray(part.texture[..., :3], dtype=np.uint8)
+        tex = self.spec.add_texture(name=tname, type=mujoco.mjtTexture.mjTEXTURE_2D,
+                                    width=img.shape[1], height=img.shape[0], nchannel=3)
+        tex.data = img.tobytes()
+        mat = self.spec.add_material(name=f"mat_{tname}", rgba=[*part.rgba[:3], 1.0])
+        mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = tname
+        m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
+        self._mesh_count += 1
+        m.uservert = part.vertices.reshape(-1).tolist()
+        m.userface = part.faces.reshape(-1).tolist()
+        m.usertexcoord = part.uv.reshape(-1).tolist()
+        m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material=mat.name,
+                      contype=0, conaffinity=0, group=group, density=0, name=name)
+        self._geom_owner.append(owner)
+
+    def _visual_geoms(self, body, parts: list[Part], *, group: int, owner, name: str) -> None:
+        if self.options.naive:
+            for i, part in enumerate(parts):
+                self._plain_geom(body, part, group=group, owner=owner, name=f"{name}_{i}")
+            return
+        acc = MeshAccumulator(self.palette)
+        for i, part in enumerate(parts):
+            if part.texture is not None and part.uv is not None:
+                self._textured_geom(body, part, group=group, owner=owner, name=f"{name}_tex{i}")
+            else:
+                acc.add_part(part)
+        if not acc.empty():
+            self._mesh_geom(body, acc.build(), group=group, owner=owner, name=name)
+
+    def _collision_geoms(self, body, parts: list[Part], *, owner, name: str, friction=(1.0, 0.005, 0.0001)) -> None:
+        for i, part in enumerate(parts):
+            if part.collision == "none":
+                continue
+            if part.collision == "box":
+                lo, hi = part.bounds()
+                size = np.maximum((hi - lo) / 2, 1e-4)
+                body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=size.tolist(), pos=((lo + hi) / 2).tolist(),
+                              group=GROUP_COLLISION, friction=list(friction), name=f"{name}_c{i}")
+            else:
+                m = self.spec.add_mesh(name=f"hull_{self._mesh_count}")
+                self._mesh_count += 1
+                m.uservert = part.vertices.reshape(-1).tolist()
+                m.maxhullvert = self.options.max_hull_vertices
+                body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, group=GROUP_COLLISION,
+                              friction=list(friction), name=f"{name}_c{i}")
+            self._geom_owner.append(owner)
+
+    # -- house shell ------------------------------------------------------------------------
+    def _add_shell(self) -> None:
+        scene, wb = self.scene, self.spec.worldbody
+        floors, ceilings, walls = (MeshAccumulator(self.palette) for _ in range(3))
+        room_colour = {r.id: r.wall.rgba for r in scene.rooms}
+        default_wall = scene.rooms[0].wall.rgba
+        max_height = max((w.height for w in scene.walls), default=3.0)
+        for room in scene.rooms:
+            v, f = polygon_surface(room.polygon, 0.0)
+            floors.add(v, f, room.floor.rgba)
+            v, f = polygon_surface(room.polygon, max_height, facing_up=False)
+            ceilings.add(v, f, (0.95, 0.95, 0.93, 1.0))
+        for wall in scene.walls:
+            openings = [(d.offset, d.width, 0.0, d.height) for d in scene.doors if d.wall == wall.id]
+            openings += [(w.offset, w.width, w.sill, w.sill + w.height) for w in scene.windows if w.wall == wall.id]
+            left, right = self._wall_side_colours(wall, room_colour, default_wall)
+            for piece in wall_pieces(wall.length, wall.height, openings):
+                v, f, colours = wall_piece_box(wall.start, wall.end, wall.thickness, piece, left, right)
+                walls.add(v, f, colours)
+                self._wall_collision(wall, piece)
+        owner = ("house", None)
+        if self.options.naive:
+            # The reference build: a plane floor (drawn as a grid of many quads) and plain geoms.
+            (lo_x, lo_y), (hi_x, hi_y) = scene.bounds()
+            wb.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[(hi_x - lo_x) / 2 + 1, (hi_y - lo_y) / 2 + 1, 0.1],
+                        pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, 0], rgba=list(scene.rooms[0].floor.rgba),
+                        contype=0, conaffinity=0, name="floor_plane")
+            self._geom_owner.append(owner)
+            for acc, name in ((walls, "walls"), (ceilings, "ceilings")):
+                if not acc.empty():
+                    mesh = acc.build()
+                    self._plain_geom(wb, Part(mesh.vertices, mesh.faces, (0.9, 0.88, 0.84, 1.0)),
+                                     group=GROUP_HOUSE, owner=owner, name=name)
+        else:
+            self._mesh_geom(wb, floors.build(), group=GROUP_HOUSE, owner=owner, name="floors")
+            if not walls.empty():
+                self._mesh_geom(wb, walls.build(), group=GROUP_HOUSE, owner=owner, name="walls")
+            if self.options.with_ceiling:
+                self._mesh_geom(wb, ceilings.build(), group=GROUP_CEILING, owner=owner, name="ceilings")
+        # Collision floor: one box under the whole house (invisible).
+        (lo_x, lo_y), (hi_x, hi_y) = scene.bounds()
+        wb.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, name="floor_collision", group=GROUP_COLLISION,
+                    size=[(hi_x - lo_x) / 2 + 1.0, (hi_y - lo_y) / 2 + 1.0, FLOOR_THICKNESS / 2],
+                    pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, -FLOOR_THICKNESS / 2])
+        self._geom_owner.append(owner)
+
+    def _wall_side_colours(self, wall, room_colour, default):
+        """Which room lies left and right of the wall's direction, and their paint."""
+        rooms = [r for r in wall.rooms if r in room_colour]
+        if not rooms:
+            return default, default
+        if len(rooms) == 1:
+            return room_colour[rooms[0]], room_colour[rooms[0]]
+        # Probe a point just left of the wall's middle and see which room polygon holds it.
+        (x0, y0), (x1, y1) = wall.start, wall.end
+        length = max(wall.length, 1e-9)
+        nx, ny = -(y1 - y0) / length, (x1 - x0) / length
+        probe = ((x0 + x1) / 2 + nx * 0.2, (y0 + y1) / 2 + ny * 0.2)
+        left_room = rooms[0] if _point_in_polygon(probe, self.scene.room(rooms[0]).polygon) else rooms[1]
+        right_room = rooms[1] if left_room == rooms[0] else rooms[0]
+        return room_colour[left_room], room_colour[right_room]
+
+    def _wall_collision(self, wall, piece) -> None:
+        (x0, y0), (x1, y1) = wall.start, wall.end
+        length = max(wall.length, 1e-9)
+        ux, uy = (x1 - x0) / length, (y1 - y0) / length
+        mid = (piece.a + piece.b) / 2
+        self.spec.worldbody.add_geom(
+            type=mujoco.mjtGeom.mjGEOM_BOX, group=GROUP_COLLISION,
+            size=[(piece.b - piece.a) / 2, wall.thickness / 2, (piece.z1 - piece.z0) / 2],
+            pos=[x0 + ux * mid, y0 + uy * mid, (piece.z0 + piece.z1) / 2],
+            quat=yaw_quat(math.degrees(math.atan2(uy, ux))).tolist(),
+        )
+        self._geom_owner.append(("house", None))
+
+    # -- doors -----------------------------------------------------------------------------
+    def _add_door_leaf(self, door) -> None:
+        wall = self.scene.wall(door.wall)
+        (x0, y0), (x1, y1) = wall.start, wall.end
+        length = max(wall.length, 1e-9)
+        ux, uy = (x1 - x0) / length, (y1 - y0) / length
+        along = door.offset - door.width / 2 if door.hinge == "start" else door.offset + door.width / 2
+        hinge = (x0 + ux * along, y0 + uy * along)
+        wall_angle = math.degrees(math.atan2(uy, ux))
+        # Leaf frame: x along the closed leaf from the hinge toward the opening's other end.
+        leaf_yaw = wall_angle if door.hinge == "start" else wall_angle + 180
+        body = self.spec.worldbody.add_body(name=f"door_{door.id}", pos=[*hinge, 0.0],
+                                            quat=yaw_quat(leaf_yaw).tolist())
+        # Swinging to the left of the wall direction is +yaw for a start hinge, and mirrored.
+        to_left = (door.swing == "left") == (door.hinge == "start")
+        limit = math.pi / 2
+        joint = body.add_joint(type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 0, 1], name=f"door_{door.id}_hinge",
+                               range=[0, limit] if to_left else [-limit, 0], damping=5.0)
+        joint.ref = 0.0
+        leaf_w = door.width - 0.02
+        panel = Part(*_box_arrays((leaf_w / 2 + 0.01, 0, door.height / 2), (leaf_w, DOOR_LEAF_THICKNESS, door.height - 0.01)),
+                     rgba=(0.55, 0.4, 0.28, 1.0), collision="box", material="wood")
+        handle_y = DOOR_LEAF_THICKNESS / 2 + 0.03
+        handles = [Part(*_box_arrays((leaf_w - 0.08, s * handle_y, 1.0), (0.12, 0.02, 0.03)), rgba=(0.75, 0.75, 0.7, 1),
+                        collision="none", material="metal") for s in (-1, 1)]
+        owner = ("door", door.id)
+        self._visual_geoms(body, [panel, *handles], group=GROUP_HOUSE, owner=owner, name=f"door_{door.id}")
+        self._collision_geoms(body, [panel], owner=owner, name=f"door_{door.id}")
+        body.mass = 20.0
+        body.inertia = [2.0, 2.0, 2.0]
+        body.explicitinertial = True
+        self._door_initial = getattr(self, "_door_initial", {})
+        self._door_initial[door.id] = door.openness * (limit if to_left else -limit)
+
+    # -- objects -------------------------------------------------------------------------
+    def _asset_for(self, obj) -> AssetModel:
+        imported = {a.id: a for a in self.scene.assets}
+        if obj.asset in imported:
+            from legent_gym.world.assets.gltf import load_imported_asset
+
+            model = load_imported_asset(imported[obj.asset], scene_base_dir(self.scene))
+        else:
+            model = registry.make(obj.asset, obj.variant)
+        return model.scaled(obj.scale)
+
+    def _add_object(self, obj) -> None:
+        asset = self._asset_for(obj)
+        self.assets[obj.id] = asset
+        owner = ("object", obj.id)
+        interactable = obj.kind == "interactable"
+        body = self.spec.worldbody.add_body(name=f"obj_{obj.id}", pos=list(obj.position),
+                                            quat=euler_deg_quat(obj.rotation).tolist())
+        group = GROUP_OBJECTS if interactable else GROUP_HOUSE
+        if interactable:
+            body.add_freejoint(name=f"obj_{obj.id}_free")
+            lo, hi = asset.bounds()
+            size = hi - lo
+            mass = max(asset.mass, 0.01)
+            body.mass = mass
+            body.ipos = ((lo + hi) / 2).tolist()
+            body.inertia = (mass / 12 * np.array([size[1] ** 2 + size[2] ** 2, size[0] ** 2 + size[2] ** 2,
+                                                  size[0] ** 2 + size[1] ** 2])).clip(1e-6).tolist()
+            body.explicitinertial = True
+        for link in asset.links:
+            target = body
+            if link.joint is not None:
+                target = body.add_body(name=f"obj_{obj.id}_{link.name}", pos=list(link.pos))
+                j = link.joint
+                jtype = mujoco.mjtJoint.mjJNT_HINGE if j.kind == "hinge" else mujoco.mjtJoint.mjJNT_SLIDE
+                target.add_joint(type=jtype, axis=list(j.axis), range=list(j.range), damping=j.damping,
+                                 name=f"obj_{obj.id}_{link.name}_joint")
+                target.mass = 2.0
+                target.inertia = [0.05, 0.05, 0.05]
+                target.explicitinertial = True
+            elif any(abs(c) > 0 for c in link.pos):
+                target = body.add_body(name=f"obj_{obj.id}_{link.name}", pos=list(link.pos))
+            self._visual_geoms(target, link.parts, group=group, owner=owner, name=f"obj_{obj.id}_{link.name}")
+            friction = (1.2, 0.01, 0.001) if interactable else (1.0, 0.005, 0.0001)
+            self._collision_geoms(target, link.parts, owner=owner, name=f"obj_{obj.id}_{link.name}", friction=friction)
+
+    # -- avatars and lights ------------------------------------------------------------
+    def _add_avatar(self, name: str, opts: BodyOptions, rgba, group: int) -> None:
+        wb = self.spec.worldbody
+        body = wb.add_body(name=name, mocap=True)
+        owner = (name, None)
+        torso_h = opts.height * 0.62
+        parts = [
+            Part(*_cylinder_arrays((0, 0, torso_h / 2), opts.radius, torso_h), rgba=rgba, collision="none"),
+            Part(*_cylinder_arrays((0, 0, torso_h + opts.height * 0.13), opts.radius * 0.8, opts.height * 0.26),
+                 rgba=tuple(min(c * 1.25, 1.0) for c in rgba[:3]) + (1.0,), collision="none"),
+            Part(*_box_arrays((opts.radius * 0.9, 0, opts.camera_height), (0.06, 0.14, 0.06)),
+                 rgba=(0.1, 0.1, 0.1, 1.0), collision="none"),
+        ]
+        self._visual_geoms(body, parts, group=group, owner=owner, name=f"{name}_avatar")
+        head = wb.add_body(name=f"{name}_head", mocap=True, pos=[0, 0, opts.camera_height])
+        cam = head.add_camera(name=f"{name}_camera", fovy=opts.fovy)
+        cam.pos = [0, 0, 0]
+
+    def _add_lights(self) -> None:
+        wb = self.spec.worldbody
+        lights = self.scene.lights
+        if not lights:
+            (lo_x, lo_y), (hi_x, hi_y) = self.scene.bounds()
+            wb.add_light(pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, 6.0], dir=[0.2, 0.3, -1.0],
+                         diffuse=[0.6, 0.6, 0.6], castshadow=False, name="sun")
+            return
+        # OpenGL's fixed pipeline draws at most 8 lights; keep the first 8.
+        for i, light in enumerate(lights[:8]):
+            wb.add_light(pos=list(light.position), dir=list(light.direction), diffuse=list(light.diffuse),
+                         type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL if light.directional else mujoco.mjtLightType.mjLIGHT_SPOT,
+                         castshadow=light.cast_shadow, cutoff=80.0, exponent=1.0, attenuation=[1.0, 0.05, 0.0],
+                         name=f"light_{i}")
+
+    def _finish_palette(self) -> None:
+        if self.options.naive:
+            return
+        uvs = self.palette.all_uvs()
+        for mesh_spec, mesh in self._pending_meshes:
+            # Each mesh carries only the texels it uses: small meshes compile fast.
+            used, corner_index = np.unique(mesh.texcoord_index, return_inverse=True)
+            mesh_spec.usertexcoord = uvs[used].reshape(-1).tolist()
+            mesh_spec.userfacetexcoord = corner_index.reshape(-1).tolist()
+        self._palette_texture.data = self.palette.image().tobytes()
+
+
+def _point_in_polygon(point, polygon) -> bool:
+    x, y = point
+    inside = False
+    pts = list(polygon)
+    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1]):
+        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
+            inside = not inside
+    return inside
+
+
+def _box_arrays(center, size):
+    from legent_gym.world.assets.model import box_part
+
+    p = box_part(center, size)
+    return p.vertices, p.faces
+
+
+def _cylinder_arrays(center, radius, height):
+    from legent_gym.world.assets.model import cylinder_part
+
+    p = cylinder_part(center, radius, height, segments=10)
+    return p.vertices, p.faces
+
+
+# ---------------------------------------------------------------------------------------
+
+
+def build_spec(scene: Scene, options: BuildOptions | None = None) -> tuple[mujoco.MjSpec, _SpecBuilder]:
+    builder = _SpecBuilder(scene, options or BuildOptions())
+    builder.build()
+    return builder.spec, builder
+
+
+def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
+    """Build a scene into a MuJoCo model and data, with its maps back to scene ids."""
+    options = options or BuildOptions()
+    spec, b = build_spec(scene, options)
+    try:
+        model = spec.compile()
+    except ValueError as err:  # MuJoCo reports compile errors as ValueError
+        raise SceneBuildError(f"MuJoCo could not compile scene {scene.name!r}: {err}") from None
+    data = mujoco.MjData(model)
+
+    geom_object = np.full(model.ngeom, -1, dtype=np.int32)
+    geom_door: dict[int, str] = {}
+    for gid in range(model.ngeom):
+        name = model.geom(gid).name
+        if name.startswith("obj_"):
+            geom_object[gid] = int(name.split("_", 2)[1])
+        elif name.startswith("door_"):
+            for door in scene.doors:
+                if name.startswith(f"door_{door.id}_") or name == f"door_{door.id}":
+                    geom_door[gid] = door.id
+    object_body = {o.id: model.body(f"obj_{o.id}").id for o in scene.objects}
+    object_joints: dict[int, dict[str, int]] = {}
+    for obj in scene.objects:
+        for link in b.assets[obj.id].links:
+            if link.joint is not None:
+                jid = model.joint(f"obj_{obj.id}_{link.name}_joint").id
+                object_joints.setdefault(obj.id, {})[link.name] = jid
+                if link.name in obj.joints:
+                    data.qpos[model.jnt_qposadr[jid]] = obj.joints[link.name]
+    door_joint, door_body = {}, {}
+    for door in scene.doors:
+        if door.leaf:
+            jid = model.joint(f"door_{door.id}_hinge").id
+            door_joint[door.id] = jid
+            door_body[door.id] = model.body(f"door_{door.id}").id
+            data.qpos[model.jnt_qposadr[jid]] = b._door_initial[door.id]
+    free = [o.id for o in scene.objects if o.kind == "interactable"]
+    world = World(scene, model, data, b.assets, object_body, object_joints, door_joint, door_body,
+                  geom_object, geom_door, b.palette, options, free)
+    world.set_body_pose("agent", *scene.agent.position, scene.agent.yaw)
+    user = scene.user or scene.agent
+    world.set_body_pose("user", *user.position, user.yaw)
+    if scene.user is None:  # no user: park the avatar far below the floor, out of every view
+        world.data.mocap_pos[model.body("user").mocapid[0]] = (0, 0, -100)
+    mujoco.mj_forward(model, data)
+    return world

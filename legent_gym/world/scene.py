@@ -1,0 +1,425 @@
+"""The scene format: a house written down as versioned JSON.
+
+A scene is plain data. The builder (:mod:`legent_gym.world.builder`) turns it into a MuJoCo
+model; generators (:mod:`legent_gym.world.generation`) write it; people can write it by
+hand. Frame: MuJoCo's, z up, right-handed, metres; angles in the file are degrees.
+
+Conventions (see ``docs/scene-format.md`` for the full reference and an example):
+
+* A room is a floor polygon (counter-clockwise, metres) with a type and a name.
+* A wall is a segment ``start -> end`` with a height and thickness. Doors and windows sit
+  in a wall at ``offset`` metres from its start (the centre of the opening); the openings
+  in the wall are derived from them, never stored twice.
+* An object instance places an asset (built-in id or an id declared under ``assets``)
+  with its frame origin, the centre of its footprint on the floor (or on the surface it
+  rests on), at ``position``; ``rotation`` is XYZ Euler degrees.
+* Spawns give a floor position and a heading (yaw, degrees, 0 = looking along +x).
+
+Loading validates twice: the schema (types, ranges, finite numbers) and the cross
+references (unique ids, known assets, doors on existing walls, ...). Every problem is
+reported as ``field.path: message`` in one :class:`SceneError`.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator
+
+SCENE_FORMAT = "legent_gym.scene"
+SCENE_VERSION = 1
+
+#: Object kinds: ``static`` never moves (furniture); ``interactable`` is a free body under
+#: gravity that the agent can pick up.
+ObjectKind = Literal["static", "interactable"]
+
+
+class SceneError(ValueError):
+    """A scene that cannot be used: each entry of :attr:`problems` is ``(path, message)``."""
+
+    def __init__(self, problems: list[tuple[str, str]], source: str | None = None):
+        self.problems = problems
+        self.source = source
+        where = f" in {source}" if source else ""
+        lines = [f"  {path or '<scene>'}: {msg}" for path, msg in problems]
+        super().__init__(f"invalid scene{where} ({len(problems)} problem(s)):\n" + "\n".join(lines))
+
+
+Finite = Annotated[float, Field(allow_inf_nan=False)]
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+Unit = Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
+Vec2 = tuple[Finite, Finite]
+Vec3 = tuple[Finite, Finite, Finite]
+RGBA = tuple[Unit, Unit, Unit, Unit]
+RGB = tuple[Unit, Unit, Unit]
+Identifier = Annotated[str, Field(min_length=1, max_length=128, pattern=r"^[A-Za-z0-9_.:\-]+$")]
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=False, validate_assignment=True)
+
+
+class Surface(_Model):
+    """How a floor or wall looks: a material name from the style presets and a colour."""
+
+    material: str = "plain"
+    rgba: RGBA = (0.8, 0.8, 0.8, 1.0)
+
+
+class Room(_Model):
+    id: Identifier
+    type: str = Field(min_length=1, description="bedroom, living_room, kitchen, ...")
+    name: str = Field(min_length=1, description="What people call it: 'bedroom'.")
+    polygon: list[Vec2] = Field(min_length=3, description="Floor outline, metres, CCW.")
+    floor: Surface = Surface(material="wood", rgba=(0.62, 0.48, 0.33, 1.0))
+    wall: Surface = Surface(material="paint", rgba=(0.9, 0.88, 0.84, 1.0))
+
+    @field_validator("polygon")
+    @classmethod
+    def _polygon_has_area(cls, polygon: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        area = polygon_signed_area(polygon)
+        if abs(area) < 1e-6:
+            raise ValueError("polygon has no area")
+        return polygon
+
+
+class Wall(_Model):
+    id: Identifier
+    start: Vec2
+    end: Vec2
+    height: Positive = 3.0
+    thickness: Positive = 0.1
+    #: Room ids on either side; "exterior" for the outside.
+    rooms: list[str] = Field(default_factory=list, max_length=2)
+
+    @property
+    def length(self) -> float:
+        return math.dist(self.start, self.end)
+
+
+class Door(_Model):
+    """A door opening in a wall, with a hinged leaf unless ``leaf`` is false (an archway)."""
+
+    id: Identifier
+    wall: Identifier
+    offset: Finite = Field(description="Centre of the opening, metres from the wall's start.")
+    width: Positive = 0.9
+    height: Positive = 2.1
+    leaf: bool = True
+    #: Which end of the opening the hinge is at: toward the wall's "start" or "end".
+    hinge: Literal["start", "end"] = "start"
+    #: Side the leaf swings to: "left" or "right" of the wall's direction start -> end.
+    swing: Literal["left", "right"] = "left"
+    #: 0 closed, 1 open (90 degrees).
+    openness: Unit = 1.0
+    connects: list[str] = Field(default_factory=list, max_length=2)
+
+
+class Window(_Model):
+    id: Identifier
+    wall: Identifier
+    offset: Finite
+    width: Positive = 1.0
+    height: Positive = 1.0
+    sill: NonNegative = 0.9
+
+
+class ImportedAsset(_Model):
+    """A user glTF/GLB file used by this scene, with its annotations."""
+
+    id: Identifier
+    source: str = Field(min_length=1, description="Path to .glb/.gltf, relative to the scene file.")
+    size: Vec3 | None = Field(default=None, description="Target bounding size (x, y, z), metres.")
+    up_axis: Literal["y", "z"] = "y"
+    category: str | None = None
+    names: list[str] = Field(default_factory=list)
+    pickupable: bool | None = None
+    mass: Positive | None = None
+
+    @field_validator("size")
+    @classmethod
+    def _size_positive(cls, size):
+        if size is not None and min(size) <= 0:
+            raise ValueError("every size component must be > 0")
+        return size
+
+
+class ObjectInstance(_Model):
+    id: Annotated[int, Field(ge=0)]
+    asset: Identifier
+    variant: Annotated[int, Field(ge=0)] = Field(default=0, description="Seed of the asset's look.")
+    position: Vec3
+    rotation: Vec3 = (0.0, 0.0, 0.0)
+    scale: tuple[Positive, Positive, Positive] = (1.0, 1.0, 1.0)
+    kind: ObjectKind = "static"
+    #: Id of the object whose receptacle surface this one rests on (None: the floor).
+    on: Annotated[int, Field(ge=0)] | None = None
+    room: str | None = None
+    #: Positions of articulated parts by joint name (radians for hinges, metres for slides).
+    joints: dict[str, Finite] = Field(default_factory=dict)
+
+
+class Spawn(_Model):
+    position: Vec2
+    yaw: Finite = 0.0
+
+
+class Light(_Model):
+    position: Vec3
+    direction: Vec3 = (0.0, 0.0, -1.0)
+    diffuse: RGB = (0.6, 0.6, 0.6)
+    directional: bool = False
+    cast_shadow: bool = True
+
+
+class Style(_Model):
+    """Rendering style: a preset name from :mod:`legent_gym.world.styles`."""
+
+    preset: str = "realistic"
+    ambient: RGB = (0.35, 0.35, 0.35)
+
+
+class Scene(_Model):
+    format: Literal["legent_gym.scene"] = SCENE_FORMAT
+    version: Literal[1] = SCENE_VERSION
+    name: str = "house"
+    seed: int | None = None
+    style: Style = Style()
+    rooms: list[Room] = Field(min_length=1)
+    walls: list[Wall] = Field(default_factory=list)
+    doors: list[Door] = Field(default_factory=list)
+    windows: list[Window] = Field(default_factory=list)
+    assets: list[ImportedAsset] = Field(default_factory=list)
+    objects: list[ObjectInstance] = Field(default_factory=list)
+    agent: Spawn
+    user: Spawn | None = None
+    lights: list[Light] = Field(default_factory=list)
+    #: Directory that relative imported-asset paths resolve against (not serialised).
+    _base_dir: Path | None = PrivateAttr(default=None)
+
+    # -- lookups ------------------------------------------------------------------------
+    def object(self, object_id: int) -> ObjectInstance:
+        for obj in self.objects:
+            if obj.id == object_id:
+                return obj
+        raise KeyError(f"no object with id {object_id}")
+
+    def wall(self, wall_id: str) -> Wall:
+        for wall in self.walls:
+            if wall.id == wall_id:
+                return wall
+        raise KeyError(f"no wall with id {wall_id!r}")
+
+    def room(self, room_id: str) -> Room:
+        for room in self.rooms:
+            if room.id == room_id:
+                return room
+        raise KeyError(f"no room with id {room_id!r}")
+
+    def bounds(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """((xmin, ymin), (xmax, ymax)) over all room polygons."""
+        xs = [p[0] for r in self.rooms for p in r.polygon]
+        ys = [p[1] for r in self.rooms for p in r.polygon]
+        return (min(xs), min(ys)), (max(xs), max(ys))
+
+    # -- serialisation ------------------------------------------------------------------
+    def to_dict(self) -> dict[str, Any]:
+        return self.model_dump(mode="json")
+
+    def to_json(self, indent: int | None = 1) -> str:
+        return json.dumps(self.to_dict(), indent=indent, ensure_ascii=False) + "\n"
+
+
+# ---------------------------------------------------------------------------------------
+# Geometry helpers used by validation (kept here so the format has no other dependency)
+
+
+def polygon_signed_area(polygon: Iterable[tuple[float, float]]) -> float:
+    pts = list(polygon)
+    return 0.5 * sum(
+        x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True)
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# Loading, validation, saving
+
+AssetLookup = Callable[[str], bool]
+
+
+def _format_loc(loc: tuple) -> str:
+    path = ""
+    for part in loc:
+        if isinstance(part, int):
+            path += f"[{part}]"
+        else:
+            path += ("." if path else "") + str(part)
+    return path
+
+
+def _pydantic_problems(err: ValidationError) -> list[tuple[str, str]]:
+    problems = []
+    for e in err.errors(include_url=False):
+        # Drop pydantic's internal union/constraint tags ("tuple[...]", "function-after").
+        loc = tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or "-" in p)))
+        msg = e["msg"]
+        if e.get("type") in ("finite_number",):
+            msg = "must be a finite number (NaN and infinity are not allowed)"
+        problems.append((_format_loc(loc), msg))
+    return problems
+
+
+def check_references(scene: Scene, asset_known: AssetLookup | None = None) -> list[tuple[str, str]]:
+    """Cross-reference checks the schema cannot express. Returns ``(path, message)`` pairs."""
+    problems: list[tuple[str, str]] = []
+
+    def unique(kind: str, ids: list) -> None:
+        seen: dict = {}
+        for i, ident in enumerate(ids):
+            if ident in seen:
+                problems.append((f"{kind}[{i}].id", f"duplicate id {ident!r} (also {kind}[{seen[ident]}])"))
+            else:
+                seen[ident] = i
+
+    unique("rooms", [r.id for r in scene.rooms])
+    unique("walls", [w.id for w in scene.walls])
+    unique("doors", [d.id for d in scene.doors])
+    unique("windows", [w.id for w in scene.windows])
+    unique("assets", [a.id for a in scene.assets])
+    unique("objects", [o.id for o in scene.objects])
+
+    room_ids = {r.id for r in scene.rooms}
+    walls = {w.id: w for w in scene.walls}
+    for i, wall in enumerate(scene.walls):
+        if wall.length < 1e-6:
+            problems.append((f"walls[{i}]", "start and end are the same point"))
+        for j, rid in enumerate(wall.rooms):
+            if rid != "exterior" and rid not in room_ids:
+                problems.append((f"walls[{i}].rooms[{j}]", f"unknown room {rid!r}"))
+
+    for kind, items in (("doors", scene.doors), ("windows", scene.windows)):
+        for i, item in enumerate(items):
+            wall = walls.get(item.wall)
+            if wall is None:
+                problems.append((f"{kind}[{i}].wall", f"unknown wall {item.wall!r}"))
+                continue
+            half = item.width / 2
+            if item.offset - half < -1e-9 or item.offset + half > wall.length + 1e-9:
+                problems.append(
+                    (f"{kind}[{i}].offset", f"opening [{item.offset - half:.3f}, {item.offset + half:.3f}] "
+                     f"does not fit in wall {wall.id!r} of length {wall.length:.3f}")
+                )
+            top = item.height + (item.sill if isinstance(item, Window) else 0.0)
+            if top > wall.height + 1e-9:
+                problems.append((f"{kind}[{i}].height", f"opening is taller than wall {wall.id!r}"))
+    for i, door in enumerate(scene.doors):
+        for j, rid in enumerate(door.connects):
+            if rid != "exterior" and rid not in room_ids:
+                problems.append((f"doors[{i}].connects[{j}]", f"unknown room {rid!r}"))
+
+    imported = {a.id for a in scene.assets}
+    object_ids = {o.id for o in scene.objects}
+    for i, obj in enumerate(scene.objects):
+        if obj.asset not in imported and asset_known is not None and not asset_known(obj.asset):
+            problems.append((f"objects[{i}].asset", f"unknown asset id {obj.asset!r}"))
+        if obj.on is not None:
+            if obj.on not in object_ids:
+                problems.append((f"objects[{i}].on", f"no object with id {obj.on}"))
+            elif obj.on == obj.id:
+                problems.append((f"objects[{i}].on", "an object cannot rest on itself"))
+        if obj.room is not None and obj.room not in room_ids:
+            problems.append((f"objects[{i}].room", f"unknown room {obj.room!r}"))
+    return problems
+
+
+def _default_asset_lookup() -> AssetLookup:
+    from legent_gym.world.assets import registry
+
+    return registry.has
+
+
+def validate_scene(data: Any, *, asset_known: AssetLookup | None | Literal["registry"] = "registry",
+                   source: str | None = None) -> Scene:
+    """Validate a dict (or a :class:`Scene`) and return the scene, or raise :class:`SceneError`.
+
+    ``asset_known`` decides which asset ids exist: by default the built-in registry; pass a
+    callable of your own, or ``None`` to skip the asset check.
+    """
+    if isinstance(data, Scene):
+        data = data.to_dict()
+    if not isinstance(data, dict):
+        raise SceneError([("", f"expected a JSON object at the top level, got {type(data).__name__}")], source)
+    try:
+        scene = Scene.model_validate(data)
+    except ValidationError as err:
+        raise SceneError(_pydantic_problems(err), source) from None
+    lookup = _default_asset_lookup() if asset_known == "registry" else asset_known
+    problems = check_references(scene, lookup)
+    if problems:
+        raise SceneError(problems, source)
+    return scene
+
+
+def loads_scene(text: str, *, source: str | None = None, **kwargs) -> Scene:
+    try:
+        data = json.loads(text, parse_constant=_reject_constant)
+    except json.JSONDecodeError as err:
+        raise SceneError([("", f"not valid JSON: {err.msg} at line {err.lineno} column {err.colno}")], source) from None
+    except ValueError as err:
+        raise SceneError([("", str(err))], source) from None
+    return validate_scene(data, source=source, **kwargs)
+
+
+def _reject_constant(name: str):
+    raise ValueError(f"not valid JSON: {name} is not a number JSON allows")
+
+
+def load_scene(path: str | os.PathLike, **kwargs) -> Scene:
+    """Read and validate a scene file. Imported asset paths stay relative to the file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as err:
+        raise SceneError([("", f"cannot read file: {err.strerror}")], str(path)) from None
+    except UnicodeDecodeError:
+        raise SceneError([("", "file is not UTF-8 text")], str(path)) from None
+    scene = loads_scene(text, source=str(path), **kwargs)
+    # Remember where the file was, so relative asset sources resolve (not serialised).
+    scene._base_dir = path.parent.resolve()
+    return scene
+
+
+def atomic_write_text(path: str | os.PathLike, text: str) -> None:
+    """Write a file so that readers see the old or the new content, never a half."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def save_scene(scene: Scene, path: str | os.PathLike) -> None:
+    atomic_write_text(path, scene.to_json())
+
+
+def scene_base_dir(scene: Scene) -> Path:
+    return scene._base_dir or Path.cwd()
+
+
+def scene_json_schema() -> dict[str, Any]:
+    """The JSON Schema of the format (for editors and other languages)."""
+    return Scene.model_json_schema()

@@ -1,0 +1,1 @@
+"""legent_gym.wrappers (see the package docstring)."""
