@@ -26,8 +26,16 @@ import mujoco
 import numpy as np
 
 from legent_gym.world.assets import registry
-from legent_gym.world.assets.model import AssetModel, Part
-from legent_gym.world.meshing import MeshAccumulator, MeshData, Palette, polygon_surface, wall_piece_box, wall_pieces
+from legent_gym.world.assets.model import AssetModel, Link, Part
+from legent_gym.world.meshing import (
+    ColouredMesh,
+    MeshAccumulator,
+    Palette,
+    link_geometry,
+    polygon_surface,
+    wall_piece_box,
+    wall_pieces,
+)
 from legent_gym.world.scene import Scene, scene_base_dir
 
 GROUP_HOUSE, GROUP_OBJECTS, GROUP_CEILING, GROUP_COLLISION, GROUP_AGENT, GROUP_USER = range(6)
@@ -147,8 +155,7 @@ class _SpecBuilder:
         self.palette = Palette()
         self.assets: dict[int, AssetModel] = {}
         # Geoms whose palette UVs must be filled in once the palette is complete.
-        self._pending_meshes: list[tuple[mujoco.MjsMesh, MeshData]] = []
-        self._geom_owner: list[tuple[str, object]] = []  # (kind, id) by geom name order
+        self._palette_uvs = self.palette.all_uvs()
         self._mesh_count = 0
         self._texture_count = 0
 
@@ -197,7 +204,7 @@ class _SpecBuilder:
             mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "palette"
 
     # -- geometry helpers ------------------------------------------------------------------
-    def _mesh_geom(self, body, mesh: MeshData, *, group: int, owner: tuple[str, object], name: str) -> None:
+    def _mesh_geom(self, body, mesh: ColouredMesh, *, group: int, name: str) -> None:
         """A visual-only mesh geom coloured through the palette."""
         m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
         self._mesh_count += 1
@@ -205,14 +212,15 @@ class _SpecBuilder:
         m.userface = mesh.faces.reshape(-1).tolist()
         m.usernormal = mesh.normals.reshape(-1).tolist()
         m.userfacenormal = np.repeat(np.arange(mesh.n_faces), 3).tolist()
+        # Each mesh carries only the texels it uses: small meshes compile fast.
+        used, face_texel = np.unique(mesh.texel_indices(self.palette), return_inverse=True)
+        m.usertexcoord = self._palette_uvs[used].reshape(-1).tolist()
+        m.userfacetexcoord = np.repeat(face_texel.reshape(-1), 3).tolist()
         m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
-        self._pending_meshes.append((m, mesh))
-        geom = body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material="palette",
-                             contype=0, conaffinity=0, group=group, density=0, name=name)
-        self._geom_owner.append(owner)
-        return geom
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material="palette",
+                      contype=0, conaffinity=0, group=group, density=0, name=name)
 
-    def _plain_geom(self, body, part: Part, *, group: int, owner, name: str) -> None:
+    def _plain_geom(self, body, part: Part, *, group: int, name: str) -> None:
         """Naive build: one geom per part with its own colour."""
         m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
         self._mesh_count += 1
@@ -221,9 +229,8 @@ class _SpecBuilder:
         m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
         body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, rgba=list(part.rgba),
                       contype=0, conaffinity=0, group=group, density=0, name=name)
-        self._geom_owner.append(owner)
 
-    def _textured_geom(self, body, part: Part, *, group: int, owner, name: str) -> None:
+    def _textured_geom(self, body, part: Part, *, group: int, name: str) -> None:
         """An imported part with its own base-colour texture."""
         tname = f"tex_{self._texture_count}"
         self._texture_count += 1
@@ -237,48 +244,46 @@ class _SpecBuilder:
         self._mesh_count += 1
         m.uservert = part.vertices.reshape(-1).tolist()
         m.userface = part.faces.reshape(-1).tolist()
-        m.usertexcoord = part.uv.reshape(-1).tolist()
+        # Part.uv has v pointing up; MuJoCo samples v = 0 at the image's first (top) row.
+        uv = part.uv.copy()
+        uv[:, 1] = 1.0 - uv[:, 1]
+        m.usertexcoord = uv.reshape(-1).tolist()
         m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
         body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material=mat.name,
                       contype=0, conaffinity=0, group=group, density=0, name=name)
-        self._geom_owner.append(owner)
 
-    def _visual_geoms(self, body, parts: list[Part], *, group: int, owner, name: str) -> None:
+    def _link_geoms(self, body, link: Link, *, group: int, name: str, movable: bool,
+                    friction=(1.0, 0.005, 0.0001), cache: bool = True) -> None:
+        """Visual and collision geoms of one link."""
         if self.options.naive:
-            for i, part in enumerate(parts):
-                self._plain_geom(body, part, group=group, owner=owner, name=f"{name}_{i}")
-            return
-        acc = MeshAccumulator(self.palette)
-        for i, part in enumerate(parts):
-            if part.texture is not None and part.uv is not None:
-                self._textured_geom(body, part, group=group, owner=owner, name=f"{name}_tex{i}")
-            else:
-                acc.add_part(part)
-        if not acc.empty():
-            self._mesh_geom(body, acc.build(), group=group, owner=owner, name=name)
+            for i, part in enumerate(link.parts):
+                self._plain_geom(body, part, group=group, name=f"{name}_{i}")
+        else:
+            geometry = link_geometry(link, movable, cache=cache)
+            for i, part in enumerate(geometry.textured):
+                self._textured_geom(body, part, group=group, name=f"{name}_tex{i}")
+            if geometry.mesh is not None:
+                self._mesh_geom(body, geometry.mesh, group=group, name=name)
+        self._collision_geoms(body, link_geometry(link, movable, cache=cache).collision, name=name, friction=friction)
 
-    def _collision_geoms(self, body, parts: list[Part], *, owner, name: str, friction=(1.0, 0.005, 0.0001)) -> None:
-        for i, part in enumerate(parts):
-            if part.collision == "none":
-                continue
-            if part.collision == "box":
-                lo, hi = part.bounds()
-                size = np.maximum((hi - lo) / 2, 1e-4)
-                body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=size.tolist(), pos=((lo + hi) / 2).tolist(),
-                              group=GROUP_COLLISION, friction=list(friction), name=f"{name}_c{i}")
+    def _collision_geoms(self, body, shapes, *, name: str, friction) -> None:
+        for i, shape in enumerate(shapes):
+            if shape.kind == "box":
+                body.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, size=shape.half_size.tolist(),
+                              pos=shape.centre.tolist(), group=GROUP_COLLISION, friction=list(friction),
+                              name=f"{name}_c{i}")
             else:
                 m = self.spec.add_mesh(name=f"hull_{self._mesh_count}")
                 self._mesh_count += 1
-                m.uservert = part.vertices.reshape(-1).tolist()
+                m.uservert = shape.vertices.reshape(-1).tolist()
                 m.maxhullvert = self.options.max_hull_vertices
                 body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, group=GROUP_COLLISION,
                               friction=list(friction), name=f"{name}_c{i}")
-            self._geom_owner.append(owner)
 
     # -- house shell ------------------------------------------------------------------------
     def _add_shell(self) -> None:
         scene, wb = self.scene, self.spec.worldbody
-        floors, ceilings, walls = (MeshAccumulator(self.palette) for _ in range(3))
+        floors, ceilings, walls = (MeshAccumulator() for _ in range(3))
         room_colour = {r.id: r.wall.rgba for r in scene.rooms}
         default_wall = scene.rooms[0].wall.rgba
         max_height = max((w.height for w in scene.walls), default=3.0)
@@ -295,31 +300,28 @@ class _SpecBuilder:
                 v, f, colours = wall_piece_box(wall.start, wall.end, wall.thickness, piece, left, right)
                 walls.add(v, f, colours)
                 self._wall_collision(wall, piece)
-        owner = ("house", None)
         if self.options.naive:
             # The reference build: a plane floor (drawn as a grid of many quads) and plain geoms.
             (lo_x, lo_y), (hi_x, hi_y) = scene.bounds()
             wb.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[(hi_x - lo_x) / 2 + 1, (hi_y - lo_y) / 2 + 1, 0.1],
                         pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, 0], rgba=list(scene.rooms[0].floor.rgba),
                         contype=0, conaffinity=0, name="floor_plane")
-            self._geom_owner.append(owner)
             for acc, name in ((walls, "walls"), (ceilings, "ceilings")):
                 if not acc.empty():
                     mesh = acc.build()
                     self._plain_geom(wb, Part(mesh.vertices, mesh.faces, (0.9, 0.88, 0.84, 1.0)),
-                                     group=GROUP_HOUSE, owner=owner, name=name)
+                                     group=GROUP_HOUSE, name=name)
         else:
-            self._mesh_geom(wb, floors.build(), group=GROUP_HOUSE, owner=owner, name="floors")
+            self._mesh_geom(wb, floors.build(), group=GROUP_HOUSE, name="floors")
             if not walls.empty():
-                self._mesh_geom(wb, walls.build(), group=GROUP_HOUSE, owner=owner, name="walls")
+                self._mesh_geom(wb, walls.build(), group=GROUP_HOUSE, name="walls")
             if self.options.with_ceiling:
-                self._mesh_geom(wb, ceilings.build(), group=GROUP_CEILING, owner=owner, name="ceilings")
+                self._mesh_geom(wb, ceilings.build(), group=GROUP_CEILING, name="ceilings")
         # Collision floor: one box under the whole house (invisible).
         (lo_x, lo_y), (hi_x, hi_y) = scene.bounds()
         wb.add_geom(type=mujoco.mjtGeom.mjGEOM_BOX, name="floor_collision", group=GROUP_COLLISION,
                     size=[(hi_x - lo_x) / 2 + 1.0, (hi_y - lo_y) / 2 + 1.0, FLOOR_THICKNESS / 2],
                     pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, -FLOOR_THICKNESS / 2])
-        self._geom_owner.append(owner)
 
     def _wall_side_colours(self, wall, room_colour, default):
         """Which room lies left and right of the wall's direction, and their paint."""
@@ -348,7 +350,6 @@ class _SpecBuilder:
             pos=[x0 + ux * mid, y0 + uy * mid, (piece.z0 + piece.z1) / 2],
             quat=yaw_quat(math.degrees(math.atan2(uy, ux))).tolist(),
         )
-        self._geom_owner.append(("house", None))
 
     # -- doors -----------------------------------------------------------------------------
     def _add_door_leaf(self, door) -> None:
@@ -375,9 +376,8 @@ class _SpecBuilder:
         handle_y = DOOR_LEAF_THICKNESS / 2 + 0.03
         handles = [Part(*_box_arrays((leaf_w - 0.08, s * handle_y, 1.0), (0.12, 0.02, 0.03)), rgba=(0.75, 0.75, 0.7, 1),
                         collision="none", material="metal") for s in (-1, 1)]
-        owner = ("door", door.id)
-        self._visual_geoms(body, [panel, *handles], group=GROUP_HOUSE, owner=owner, name=f"door_{door.id}")
-        self._collision_geoms(body, [panel], owner=owner, name=f"door_{door.id}")
+        self._link_geoms(body, Link("leaf", [panel, *handles]), group=GROUP_HOUSE,
+                         name=f"door_{door.id}", movable=True, cache=False)
         body.mass = 20.0
         body.inertia = [2.0, 2.0, 2.0]
         body.explicitinertial = True
@@ -398,7 +398,6 @@ class _SpecBuilder:
     def _add_object(self, obj) -> None:
         asset = self._asset_for(obj)
         self.assets[obj.id] = asset
-        owner = ("object", obj.id)
         interactable = obj.kind == "interactable"
         body = self.spec.worldbody.add_body(name=f"obj_{obj.id}", pos=list(obj.position),
                                             quat=euler_deg_quat(obj.rotation).tolist())
@@ -426,15 +425,14 @@ class _SpecBuilder:
                 target.explicitinertial = True
             elif any(abs(c) > 0 for c in link.pos):
                 target = body.add_body(name=f"obj_{obj.id}_{link.name}", pos=list(link.pos))
-            self._visual_geoms(target, link.parts, group=group, owner=owner, name=f"obj_{obj.id}_{link.name}")
             friction = (1.2, 0.01, 0.001) if interactable else (1.0, 0.005, 0.0001)
-            self._collision_geoms(target, link.parts, owner=owner, name=f"obj_{obj.id}_{link.name}", friction=friction)
+            self._link_geoms(target, link, group=group, name=f"obj_{obj.id}_{link.name}",
+                             movable=interactable or link.joint is not None, friction=friction)
 
     # -- avatars and lights ------------------------------------------------------------
     def _add_avatar(self, name: str, opts: BodyOptions, rgba, group: int) -> None:
         wb = self.spec.worldbody
         body = wb.add_body(name=name, mocap=True)
-        owner = (name, None)
         torso_h = opts.height * 0.62
         parts = [
             Part(*_cylinder_arrays((0, 0, torso_h / 2), opts.radius, torso_h), rgba=rgba, collision="none"),
@@ -443,7 +441,8 @@ class _SpecBuilder:
             Part(*_box_arrays((opts.radius * 0.9, 0, opts.camera_height), (0.06, 0.14, 0.06)),
                  rgba=(0.1, 0.1, 0.1, 1.0), collision="none"),
         ]
-        self._visual_geoms(body, parts, group=group, owner=owner, name=f"{name}_avatar")
+        self._link_geoms(body, Link("avatar", parts), group=group, name=f"{name}_avatar",
+                         movable=True, cache=False)
         head = wb.add_body(name=f"{name}_head", mocap=True, pos=[0, 0, opts.camera_height])
         cam = head.add_camera(name=f"{name}_camera", fovy=opts.fovy)
         cam.pos = [0, 0, 0]
@@ -464,15 +463,8 @@ class _SpecBuilder:
                          name=f"light_{i}")
 
     def _finish_palette(self) -> None:
-        if self.options.naive:
-            return
-        uvs = self.palette.all_uvs()
-        for mesh_spec, mesh in self._pending_meshes:
-            # Each mesh carries only the texels it uses: small meshes compile fast.
-            used, corner_index = np.unique(mesh.texcoord_index, return_inverse=True)
-            mesh_spec.usertexcoord = uvs[used].reshape(-1).tolist()
-            mesh_spec.userfacetexcoord = corner_index.reshape(-1).tolist()
-        self._palette_texture.data = self.palette.image().tobytes()
+        if not self.options.naive:
+            self._palette_texture.data = self.palette.image().tobytes()
 
 
 def _point_in_polygon(point, polygon) -> bool:

@@ -59,18 +59,24 @@ class Palette:
         return len(self._index)
 
 
-@dataclass
-class MeshData:
-    """Arrays for an MjSpec mesh with per-face normals (flat shading) and per-corner UVs."""
+@dataclass(frozen=True)
+class ColouredMesh:
+    """A merged triangle mesh with one 8-bit colour per face (independent of any palette)."""
 
     vertices: np.ndarray  # (N, 3)
     faces: np.ndarray  # (M, 3)
-    normals: np.ndarray  # (M, 3): one per face
-    texcoord_index: np.ndarray  # (M, 3): palette texel index per face corner
+    normals: np.ndarray  # (M, 3): one per face, for flat shading
+    face_rgb: np.ndarray  # (M, 3) uint8
 
     @property
     def n_faces(self) -> int:
         return len(self.faces)
+
+    def texel_indices(self, palette: Palette) -> np.ndarray:
+        """(M,) palette texel of each face (adds the mesh's colours to the palette)."""
+        colours, inverse = np.unique(self.face_rgb, axis=0, return_inverse=True)
+        lookup = np.array([palette.index(c / 255.0) for c in colours], dtype=np.int32)
+        return lookup[inverse.reshape(-1)]
 
 
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -79,11 +85,14 @@ def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
     return n / np.where(length > 1e-12, length, 1.0)
 
 
+def to_rgb8(rgba) -> np.ndarray:
+    return np.round(np.clip(np.asarray(rgba, dtype=np.float64)[..., :3], 0.0, 1.0) * 255).astype(np.uint8)
+
+
 @dataclass
 class MeshAccumulator:
-    """Collects coloured triangle sets and merges them into one :class:`MeshData`."""
+    """Collects coloured triangle sets and merges them into one :class:`ColouredMesh`."""
 
-    palette: Palette
     _verts: list[np.ndarray] = field(default_factory=list)
     _faces: list[np.ndarray] = field(default_factory=list)
     _colours: list[np.ndarray] = field(default_factory=list)
@@ -93,14 +102,12 @@ class MeshAccumulator:
         """Add triangles; ``rgba`` is one colour or one per face."""
         if len(faces) == 0:
             return
-        rgba = np.asarray(rgba, dtype=np.float64)
-        if rgba.ndim == 1:
-            colour_idx = np.full(len(faces), self.palette.index(rgba), dtype=np.int32)
-        else:
-            colour_idx = np.array([self.palette.index(c) for c in rgba], dtype=np.int32)
+        rgb = to_rgb8(rgba)
+        if rgb.ndim == 1:
+            rgb = np.broadcast_to(rgb, (len(faces), 3))
         self._verts.append(np.asarray(vertices, dtype=np.float64))
         self._faces.append(np.asarray(faces, dtype=np.int32) + self._count)
-        self._colours.append(colour_idx)
+        self._colours.append(rgb)
         self._count += len(vertices)
 
     def add_part(self, part: Part, transform: np.ndarray | None = None) -> None:
@@ -110,11 +117,73 @@ class MeshAccumulator:
     def empty(self) -> bool:
         return self._count == 0
 
-    def build(self) -> MeshData:
+    def build(self) -> ColouredMesh:
         v = np.concatenate(self._verts)
         f = np.concatenate(self._faces)
-        c = np.concatenate(self._colours)
-        return MeshData(v, f, face_normals(v, f), np.repeat(c[:, None], 3, axis=1))
+        return ColouredMesh(v, f, face_normals(v, f), np.concatenate(self._colours))
+
+
+@dataclass(frozen=True)
+class CollisionShape:
+    """A collision geom in a link's frame: a box (centre, half size) or a convex hull."""
+
+    kind: str  # "box" or "hull"
+    centre: np.ndarray | None = None
+    half_size: np.ndarray | None = None
+    vertices: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class LinkGeometry:
+    """What the builder needs of one asset link, computed once per asset variant."""
+
+    mesh: ColouredMesh | None  # all untextured parts merged
+    textured: tuple[Part, ...]  # imported parts with their own texture
+    collision: tuple[CollisionShape, ...]
+
+
+_LINK_CACHE: dict[tuple[int, bool], tuple[object, LinkGeometry]] = {}
+_LINK_CACHE_SIZE = 4096
+
+
+def link_geometry(link, movable: bool, *, cache: bool = True) -> LinkGeometry:
+    """Merged visual mesh and collision shapes of a link (cached per link object).
+
+    Collision is cheap where it can be: static furniture collides through the bounding box
+    of each part (exact for box parts, and what things rest on are flat tops); a moving
+    link gets box parts as boxes and all its round parts as one convex hull, because every
+    hull costs compile time.
+    """
+    key = (id(link), movable)
+    hit = _LINK_CACHE.get(key) if cache else None
+    if hit is not None and hit[0] is link:
+        return hit[1]
+    acc = MeshAccumulator()
+    textured = []
+    for part in link.parts:
+        if part.texture is not None and part.uv is not None:
+            textured.append(part)
+        else:
+            acc.add_part(part)
+    shapes = []
+    hull_points = []
+    for part in link.parts:
+        if part.collision == "none":
+            continue
+        if part.collision == "box" or not movable:
+            lo, hi = part.bounds()
+            shapes.append(CollisionShape("box", (lo + hi) / 2, np.maximum((hi - lo) / 2, 1e-4)))
+        else:
+            hull_points.append(part.vertices)
+    if hull_points:
+        shapes.append(CollisionShape("hull", vertices=np.concatenate(hull_points)))
+    geometry = LinkGeometry(None if acc.empty() else acc.build(), tuple(textured), tuple(shapes))
+    if not cache:
+        return geometry
+    if len(_LINK_CACHE) >= _LINK_CACHE_SIZE:
+        _LINK_CACHE.clear()
+    _LINK_CACHE[key] = (link, geometry)  # the strong reference keeps id(link) unique
+    return geometry
 
 
 # ---------------------------------------------------------------------------------------

@@ -21,11 +21,10 @@ import threading
 from dataclasses import dataclass
 from typing import Literal
 
-from legent_gym import _gl  # noqa: F401  (before mujoco)
-
 import mujoco
 import numpy as np
 
+from legent_gym import _gl  # noqa: F401  (before mujoco)
 from legent_gym.world.builder import (
     GROUP_AGENT,
     GROUP_CEILING,

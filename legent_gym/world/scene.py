@@ -25,12 +25,13 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
 from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator
+
+from legent_gym.atomic import atomic_write_text
 
 SCENE_FORMAT = "legent_gym.scene"
 SCENE_VERSION = 1
@@ -394,22 +395,6 @@ def load_scene(path: str | os.PathLike, **kwargs) -> Scene:
     # Remember where the file was, so relative asset sources resolve (not serialised).
     scene._base_dir = path.parent.resolve()
     return scene
-
-
-def atomic_write_text(path: str | os.PathLike, text: str) -> None:
-    """Write a file so that readers see the old or the new content, never a half."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def save_scene(scene: Scene, path: str | os.PathLike) -> None:

@@ -3,9 +3,10 @@
 Importing this package registers the built-in assets.
 """
 
-from legent_gym.world.assets import registry
+from legent_gym.world.assets import (
+    library,  # noqa: E402,F401  (registers built-ins)
+    registry,
+)
 from legent_gym.world.assets.model import AssetModel, Joint, Link, Part, Receptacle
-
-from legent_gym.world.assets import library  # noqa: E402,F401  (registers built-ins)
 
 __all__ = ["AssetModel", "Joint", "Link", "Part", "Receptacle", "registry"]

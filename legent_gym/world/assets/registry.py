@@ -11,6 +11,7 @@ variant number. Made models are cached: they are immutable by convention.
 
 from __future__ import annotations
 
+import dataclasses
 import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -74,8 +75,8 @@ def make(asset_id: str, variant: int = 0) -> AssetModel:
     if entry is None:
         raise UnknownAssetError(f"unknown asset id {asset_id!r}; known ids: {', '.join(asset_ids())}")
     model = entry.factory(variant_rng(asset_id, variant))
-    if model.asset_id != asset_id:
-        model.asset_id = asset_id
+    if model.asset_id != asset_id:  # a factory shared by several ids: name this copy
+        model = dataclasses.replace(model, asset_id=asset_id)
     return model
 
 

@@ -1,0 +1,283 @@
+"""Shared pieces of the built-in library: palettes, part builders, and the asset-frame fix-up.
+
+A factory draws all of its randomness from the generator it is given, builds its parts in
+whatever frame is convenient, and hands them to :func:`finish`, which moves everything into
+the asset frame (footprint centred on the origin, lowest point on z = 0) together with the
+receptacles that sit on the base. Links other than the base keep their parts in their own
+frame, so only their origin moves.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+
+from legent_gym.world.assets.model import (
+    AssetModel,
+    Link,
+    Part,
+    Receptacle,
+    box_part,
+    cylinder_part,
+)
+
+RGBA = tuple[float, float, float, float]
+Palette = Sequence[tuple[float, float, float]]
+
+#: Style hints the library uses for ``Part.material``.
+MATERIALS = frozenset({"wood", "fabric", "metal", "plastic", "ceramic", "glass", "food", "paper",
+                       "leather", "plain"})
+#: Room types an asset may name in ``rooms``.
+ROOM_TYPES = frozenset({"bedroom", "living_room", "kitchen", "bathroom", "dining_room", "office",
+                        "hallway"})
+
+# ---------------------------------------------------------------------------------------
+# Palettes (linear-ish sRGB in 0..1). Each factory picks from these, with a little jitter,
+# so two variants rarely share an exact colour.
+
+WOODS: Palette = (
+    (0.76, 0.60, 0.42),  # oak
+    (0.45, 0.30, 0.19),  # walnut
+    (0.55, 0.27, 0.17),  # cherry
+    (0.85, 0.72, 0.52),  # maple
+    (0.82, 0.66, 0.45),  # pine
+    (0.27, 0.19, 0.14),  # espresso
+    (0.62, 0.58, 0.52),  # grey-washed
+    (0.92, 0.91, 0.88),  # white painted
+)
+FABRICS: Palette = (
+    (0.55, 0.56, 0.58),  # grey
+    (0.28, 0.29, 0.31),  # charcoal
+    (0.80, 0.74, 0.62),  # beige
+    (0.18, 0.24, 0.40),  # navy
+    (0.20, 0.45, 0.47),  # teal
+    (0.78, 0.60, 0.22),  # mustard
+    (0.52, 0.60, 0.48),  # sage
+    (0.70, 0.38, 0.28),  # terracotta
+    (0.90, 0.87, 0.78),  # cream
+    (0.33, 0.45, 0.62),  # denim blue
+)
+LEATHERS: Palette = (
+    (0.42, 0.25, 0.15),  # brown
+    (0.65, 0.45, 0.28),  # tan
+    (0.12, 0.11, 0.11),  # black
+    (0.40, 0.13, 0.12),  # oxblood
+)
+BEDDING: Palette = (
+    (0.95, 0.95, 0.93),  # white
+    (0.74, 0.82, 0.90),  # light blue
+    (0.70, 0.71, 0.72),  # light grey
+    (0.66, 0.74, 0.64),  # sage
+    (0.90, 0.76, 0.76),  # blush
+    (0.22, 0.27, 0.42),  # navy
+    (0.88, 0.82, 0.68),  # sand
+)
+METALS: Palette = (
+    (0.72, 0.73, 0.75),  # brushed steel
+    (0.85, 0.86, 0.88),  # chrome
+    (0.25, 0.25, 0.27),  # gunmetal
+    (0.10, 0.10, 0.11),  # black powder coat
+    (0.78, 0.64, 0.35),  # brass
+)
+APPLIANCES: Palette = (
+    (0.94, 0.94, 0.93),  # white
+    (0.76, 0.77, 0.78),  # stainless
+    (0.16, 0.16, 0.17),  # black
+    (0.86, 0.84, 0.78),  # cream
+)
+COUNTERTOPS: Palette = (
+    (0.92, 0.91, 0.89),  # white quartz
+    (0.20, 0.20, 0.21),  # dark granite
+    (0.60, 0.60, 0.60),  # concrete grey
+    (0.80, 0.76, 0.70),  # travertine
+)
+CERAMICS: Palette = (
+    (0.95, 0.95, 0.93),  # white
+    (0.90, 0.86, 0.76),  # cream
+    (0.60, 0.72, 0.82),  # pale blue
+    (0.58, 0.66, 0.55),  # sage
+    (0.74, 0.42, 0.30),  # terracotta
+    (0.25, 0.26, 0.28),  # charcoal
+    (0.92, 0.80, 0.35),  # yellow
+)
+BRIGHT_PLASTICS: Palette = (
+    (0.85, 0.15, 0.15),  # red
+    (0.15, 0.35, 0.80),  # blue
+    (0.20, 0.65, 0.30),  # green
+    (0.95, 0.80, 0.15),  # yellow
+    (0.95, 0.50, 0.10),  # orange
+    (0.55, 0.30, 0.70),  # purple
+    (0.95, 0.55, 0.70),  # pink
+)
+DARK_PLASTICS: Palette = (
+    (0.08, 0.08, 0.09),  # black
+    (0.22, 0.22, 0.24),  # dark grey
+    (0.55, 0.56, 0.58),  # silver grey
+    (0.92, 0.92, 0.91),  # white
+)
+GLASSES: Palette = (
+    (0.78, 0.86, 0.86),  # clear (tinted so it shows)
+    (0.25, 0.45, 0.25),  # green
+    (0.45, 0.28, 0.12),  # amber
+    (0.62, 0.74, 0.88),  # blue
+)
+FOLIAGE: Palette = (
+    (0.22, 0.45, 0.20),
+    (0.30, 0.55, 0.25),
+    (0.16, 0.36, 0.18),
+    (0.40, 0.58, 0.30),
+)
+SCREEN: RGBA = (0.03, 0.03, 0.04, 1.0)
+WHITE: RGBA = (0.95, 0.95, 0.94, 1.0)
+
+
+def pick(rng: np.random.Generator, palette: Palette, jitter: float = 0.06) -> RGBA:
+    """A palette colour with a small brightness jitter."""
+    rgb = np.asarray(palette[int(rng.integers(len(palette)))], dtype=np.float64)
+    rgb = np.clip(rgb * (1.0 + rng.uniform(-jitter, jitter)), 0.0, 1.0)
+    return (float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0)
+
+
+def shade(rgba: RGBA, factor: float) -> RGBA:
+    """A darker (< 1) or lighter (> 1) version of a colour, e.g. for trim or handles."""
+    rgb = np.clip(np.asarray(rgba[:3]) * factor, 0.0, 1.0)
+    return (float(rgb[0]), float(rgb[1]), float(rgb[2]), rgba[3])
+
+
+# ---------------------------------------------------------------------------------------
+# Part builders.
+
+
+def block(lo, hi, rgba: RGBA, material: str, *, collision: str = "box") -> Part:
+    """The axis-aligned box spanning corners ``lo`` .. ``hi`` (12 triangles)."""
+    lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
+    return box_part((lo + hi) / 2, hi - lo, rgba, collision=collision, material=material)
+
+
+def rod(x: float, y: float, z0: float, z1: float, radius: float, rgba: RGBA, material: str, *,
+        segments: int = 8, radius_top: float | None = None, collision: str = "hull") -> Part:
+    """A vertical cylinder (or cone frustum) standing from ``z0`` to ``z1`` at (x, y)."""
+    return cylinder_part((x, y, (z0 + z1) / 2), radius, z1 - z0, rgba, segments=segments,
+                         collision=collision, material=material, radius_top=radius_top)
+
+
+def legs(x0: float, x1: float, y0: float, y1: float, z0: float, z1: float, size: float,
+         rgba: RGBA, material: str, *, round_legs: bool = False) -> list[Part]:
+    """Four legs in the corners of the rectangle x0..x1, y0..y1, outer faces flush with it."""
+    parts = []
+    for x in (x0 + size / 2, x1 - size / 2):
+        for y in (y0 + size / 2, y1 - size / 2):
+            if round_legs:
+                parts.append(rod(x, y, z0, z1, size / 2, rgba, material))
+            else:
+                parts.append(block((x - size / 2, y - size / 2, z0), (x + size / 2, y + size / 2, z1),
+                                   rgba, material))
+    return parts
+
+
+def lathe(profile: Sequence[tuple[float, float]], rgba: RGBA, material: str, *,
+          segments: int = 10, center=(0.0, 0.0, 0.0), scale_xy=(1.0, 1.0),
+          collision: str = "hull") -> Part:
+    """A closed surface of revolution about z from a profile of (radius, z) points.
+
+    The profile runs from the bottom up the outside (and, for a vessel, back down the
+    inside); a point with radius 0 is a pole, and an open end is capped with a flat disc,
+    the first facing down and the last facing up, so the surface is always closed.
+    """
+    ang = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    ring = np.stack([np.cos(ang) * scale_xy[0], np.sin(ang) * scale_xy[1]], axis=1)
+    verts: list[np.ndarray] = []
+    rings: list[list[int]] = []  # vertex indices per profile point; one index for a pole
+    for r, z in profile:
+        start = sum(len(v) for v in verts)
+        if r > 1e-9:
+            verts.append(np.column_stack([ring * r, np.full(segments, z)]))
+            rings.append(list(range(start, start + segments)))
+        else:
+            verts.append(np.array([[0.0, 0.0, z]]))
+            rings.append([start] * segments)
+    faces: list[list[int]] = []
+    for lower, upper in zip(rings[:-1], rings[1:]):
+        for i in range(segments):
+            j = (i + 1) % segments
+            if lower[i] != lower[j]:
+                faces.append([lower[i], lower[j], upper[j]])
+            if upper[i] != upper[j]:
+                faces.append([lower[i], upper[j], upper[i]])
+    n = sum(len(v) for v in verts)
+    if profile[0][0] > 1e-9:
+        verts.append(np.array([[0.0, 0.0, profile[0][1]]]))
+        faces += [[n, rings[0][(i + 1) % segments], rings[0][i]] for i in range(segments)]
+        n += 1
+    if profile[-1][0] > 1e-9:
+        verts.append(np.array([[0.0, 0.0, profile[-1][1]]]))
+        faces += [[n, rings[-1][i], rings[-1][(i + 1) % segments]] for i in range(segments)]
+    v = np.concatenate(verts) + np.asarray(center, dtype=np.float64)
+    return Part(v, np.array(faces, dtype=np.int32), rgba, collision, material=material)
+
+
+def transformed(part: Part, *, rotate_x: float = 0.0, rotate_y: float = 0.0,
+                pivot=(0.0, 0.0, 0.0), offset=(0.0, 0.0, 0.0)) -> Part:
+    """``part`` rotated (radians, about x then y, around ``pivot``) and then moved by ``offset``."""
+    cx, sx = np.cos(rotate_x), np.sin(rotate_x)
+    cy, sy = np.cos(rotate_y), np.sin(rotate_y)
+    rot = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]]) @ np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+    p = np.asarray(pivot, dtype=np.float64)
+    mat = np.eye(4)
+    mat[:3, :3] = rot
+    mat[:3, 3] = p - rot @ p + np.asarray(offset, dtype=np.float64)
+    return part.transformed(mat)
+
+
+def flatten_bottom(part: Part, depth: float) -> Part:
+    """Slice a round part flat ``depth`` above its lowest point, so it rests without rolling."""
+    v = part.vertices.copy()
+    floor = v[:, 2].min() + depth
+    v[:, 2] = np.maximum(v[:, 2], floor)
+    return Part(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
+
+
+def volume(parts: Iterable[Part]) -> float:
+    """Enclosed volume (m^3) of closed, outward-facing parts, by the divergence theorem."""
+    total = 0.0
+    for p in parts:
+        tri = p.vertices[p.faces]
+        total += float(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum()) / 6.0
+    return total
+
+
+# ---------------------------------------------------------------------------------------
+# Annotations and the asset frame.
+
+
+def top_receptacle(name: str, lo, hi, *, inset: float = 0.03, link: str = "base",
+                   clearance: float = 1.0) -> Receptacle:
+    """The rectangle on the top face of the box ``lo`` .. ``hi``, ``inset`` from its edges."""
+    (x0, y0, _), (x1, y1, z1) = (tuple(float(c) for c in corner) for corner in (lo, hi))
+    return Receptacle(name, ((x0 + x1) / 2, (y0 + y1) / 2),
+                      ((x1 - x0) / 2 - inset, (y1 - y0) / 2 - inset), z1, link, float(clearance))
+
+
+def finish(asset_id: str, base: list[Part], *, moving: Sequence[Link] = (),
+           receptacles: Sequence[Receptacle] = (), **annotations) -> AssetModel:
+    """Assemble the model and move it into the asset frame.
+
+    ``base`` parts and base receptacles are shifted; moving links (doors, drawers) keep
+    their parts and receptacles in their own frame and only their origin is shifted.
+    """
+    links = [Link("base", base), *moving]
+    pts = np.concatenate([p.vertices + np.asarray(link.pos) for link in links for p in link.parts])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    shift = np.array([-(lo[0] + hi[0]) / 2, -(lo[1] + hi[1]) / 2, -lo[2]])
+    move = np.eye(4)
+    move[:3, 3] = shift
+    out = [Link("base", [p.transformed(move) for p in base])]
+    out += [Link(m.name, m.parts, tuple(float(c) for c in np.asarray(m.pos) + shift), m.joint)
+            for m in moving]
+    recs = [r if r.link != "base" else
+            Receptacle(r.name, (float(r.center[0] + shift[0]), float(r.center[1] + shift[1])),
+                       (float(r.half_size[0]), float(r.half_size[1])), float(r.height + shift[2]),
+                       r.link, float(r.clearance))
+            for r in receptacles]
+    return AssetModel(asset_id, asset_id, out, receptacles=recs, **annotations)

@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Set everything up, then run the default test suite (slow acceptance tests: add `-m slow`).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+LEGENT_EXTRAS="${LEGENT_EXTRAS:-dev}" bash scripts/setup.sh
+.venv/bin/ruff check legent_gym tests benchmarks
+exec .venv/bin/python -m pytest -n 2 -q "$@"

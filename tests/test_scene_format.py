@@ -1,0 +1,165 @@
+"""The scene format: exact round trips, and malformed files rejected with named fields."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+
+import pytest
+
+from legent_gym.world.scene import (
+    SceneError,
+    load_scene,
+    loads_scene,
+    save_scene,
+    scene_json_schema,
+    validate_scene,
+)
+
+MINIMAL = {
+    "rooms": [{"id": "r0", "type": "bedroom", "name": "bedroom", "polygon": [[0, 0], [4, 0], [4, 3], [0, 3]]}],
+    "walls": [{"id": "w0", "start": [0, 0], "end": [4, 0], "rooms": ["r0", "exterior"]}],
+    "doors": [{"id": "d0", "wall": "w0", "offset": 2.0}],
+    "objects": [
+        {"id": 0, "asset": "bed", "position": [1.5, 1.5, 0.0], "rotation": [0, 0, 90]},
+        {"id": 1, "asset": "apple", "position": [1.5, 1.5, 0.5], "kind": "interactable", "on": 0},
+    ],
+    "agent": {"position": [3.0, 1.0], "yaw": 90.0},
+}
+
+
+def _with(path: str, value):
+    """MINIMAL with the field at a dotted path (list indices as ints) replaced."""
+    data = copy.deepcopy(MINIMAL)
+    keys = [int(k) if k.isdigit() else k for k in path.split(".")]
+    target = data
+    for k in keys[:-1]:
+        target = target[k]
+    if value is _DELETE:
+        del target[keys[-1]]
+    else:
+        target[keys[-1]] = value
+    return data
+
+
+_DELETE = object()
+
+
+def test_minimal_scene_validates():
+    scene = validate_scene(MINIMAL)
+    assert scene.object(1).on == 0
+    assert scene.wall("w0").length == 4.0
+
+
+def test_round_trip_is_exact(tmp_path, example_scene_paths):
+    assert example_scene_paths, "examples/scenes/*.json must exist"
+    for path in example_scene_paths:
+        scene = load_scene(path)
+        out = tmp_path / path.name
+        save_scene(scene, out)
+        again = load_scene(out)
+        assert again.to_dict() == scene.to_dict()
+        assert out.read_text() == scene.to_json()
+        # Saving what was loaded reproduces the file byte for byte.
+        assert out.read_text() == path.read_text()
+
+
+def test_round_trip_keeps_awkward_floats(tmp_path):
+    data = _with("objects.0.position", [0.1 + 0.2, 1e-7, 1 / 3])
+    scene = validate_scene(data)
+    save_scene(scene, tmp_path / "s.json")
+    assert load_scene(tmp_path / "s.json").object(0).position == (0.1 + 0.2, 1e-7, 1 / 3)
+
+
+MALFORMED = [
+    # (name, text or dict, fragment of the expected message, field path expected)
+    ("truncated json", json.dumps(MINIMAL)[:-40], "not valid JSON", ""),
+    ("top level list", "[1, 2]", "expected a JSON object", ""),
+    ("wrong type", _with("objects.0.position", "here"), "", "objects[0].position"),
+    ("missing field", _with("agent", _DELETE), "Field required", "agent"),
+    ("missing rooms", _with("rooms", []), "at least 1", "rooms"),
+    ("nan", json.dumps(MINIMAL).replace("[1.5, 1.5, 0.0]", "[NaN, 1.5, 0.0]"), "NaN", ""),
+    ("infinity", json.dumps(MINIMAL).replace("[3.0, 1.0]", "[Infinity, 1.0]"), "Infinity", ""),
+    ("nan via python", _with("agent.yaw", math.nan), "finite", "agent.yaw"),
+    ("unknown asset", _with("objects.0.asset", "spaceship"), "unknown asset id 'spaceship'", "objects[0].asset"),
+    ("negative scale", _with("objects.0.scale", [1, -1, 1]), "greater than 0", "objects[0].scale[1]"),
+    ("duplicate object ids", _with("objects.1.id", 0), "duplicate id 0", "objects[1].id"),
+    ("unknown field", _with("objects.0.colour", "red"), "Extra inputs", "objects[0].colour"),
+    ("door on unknown wall", _with("doors.0.wall", "w9"), "unknown wall 'w9'", "doors[0].wall"),
+    ("door outside wall", _with("doors.0.offset", 3.9), "does not fit", "doors[0].offset"),
+    ("rests on missing object", _with("objects.1.on", 7), "no object with id 7", "objects[1].on"),
+    ("degenerate room", _with("rooms.0.polygon", [[0, 0], [1, 1], [2, 2]]), "no area", "rooms[0].polygon"),
+    ("bad kind", _with("objects.1.kind", "flying"), "static", "objects[1].kind"),
+    ("wrong version", _with("version", 7), "1", "version"),
+    ("negative id", _with("objects.0.id", -3), "greater than or equal to 0", "objects[0].id"),
+    ("colour out of range", _with("rooms.0.floor", {"rgba": [2, 0, 0, 1]}), "less than or equal to 1",
+     "rooms[0].floor.rgba[0]"),
+]
+
+
+@pytest.mark.parametrize("name,data,message,path", MALFORMED, ids=[m[0] for m in MALFORMED])
+def test_malformed_scene_is_rejected_with_a_named_problem(name, data, message, path, tmp_path):
+    file = tmp_path / "bad.json"
+    with pytest.raises(SceneError) as info:
+        if isinstance(data, str):  # text: through the file loader
+            file.write_text(data)
+            load_scene(file)
+        else:  # Python data (may hold NaN, which JSON text cannot): through the validator
+            validate_scene(data, source=str(file))
+    err = info.value
+    rendered = str(err)
+    assert str(file) in rendered
+    assert message in rendered, rendered
+    if path:
+        assert any(p == path for p, _ in err.problems), err.problems
+
+
+def test_missing_file_and_binary_file(tmp_path):
+    with pytest.raises(SceneError, match="cannot read file"):
+        load_scene(tmp_path / "nope.json")
+    (tmp_path / "bin.json").write_bytes(b"\xff\xfe\x00garbage")
+    with pytest.raises(SceneError, match="UTF-8"):
+        load_scene(tmp_path / "bin.json")
+
+
+def test_all_problems_reported_at_once():
+    data = _with("objects.0.asset", "spaceship")
+    data["doors"][0]["wall"] = "nowhere"
+    with pytest.raises(SceneError) as info:
+        validate_scene(data)
+    paths = {p for p, _ in info.value.problems}
+    assert {"objects[0].asset", "doors[0].wall"} <= paths
+
+
+def test_save_is_atomic(tmp_path, monkeypatch):
+    """A save interrupted mid-write leaves the old file intact and no temporary file."""
+    import legent_gym.atomic as atomic_module
+
+    scene = validate_scene(MINIMAL)
+    target = tmp_path / "scene.json"
+    save_scene(scene, target)
+    before = target.read_text()
+
+    class PowerCut(Exception):
+        pass
+
+    def cut(fd):
+        raise PowerCut
+
+    monkeypatch.setattr(atomic_module.os, "fsync", cut)
+    scene.name = "changed"
+    with pytest.raises(PowerCut):
+        save_scene(scene, target)
+    assert target.read_text() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.json"]
+
+
+def test_json_schema_describes_the_format():
+    schema = scene_json_schema()
+    assert "rooms" in schema["properties"] and "objects" in schema["properties"]
+
+
+def test_loads_scene_skips_asset_check_when_asked():
+    text = json.dumps(_with("objects.0.asset", "my_own"))
+    assert loads_scene(text, asset_known=None).object(0).asset == "my_own"

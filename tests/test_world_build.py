@@ -1,0 +1,243 @@
+"""The builder and renderer on real scenes: assets, physics, segmentation, glTF, profiles."""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+from legent_gym.world.assets import registry
+from legent_gym.world.builder import GROUP_COLLISION, BuildOptions, build_world
+from legent_gym.world.preview import fitted_camera, preview_scene
+from legent_gym.world.render import FreeCamera, Renderer
+from legent_gym.world.scene import ImportedAsset, load_scene, validate_scene
+
+BUILTIN = registry.asset_ids(builtin=True)
+
+
+@pytest.fixture(scope="module")
+def two_room(example_scene_paths):
+    return load_scene(next(p for p in example_scene_paths if p.stem == "two_room_furnished"))
+
+
+@pytest.mark.parametrize("asset_id", BUILTIN)
+def test_every_asset_builds_and_renders_non_blank(asset_id):
+    world = build_world(preview_scene(asset_id, variant=3, kind="static"))
+    renderer = Renderer(world, 64, 64)
+    camera = fitted_camera(world)
+    seg = renderer.segmentation(camera)
+    rgb = renderer.rgb(camera)
+    # The asset covers a real part of its own test view, and the view is not one flat colour.
+    assert (seg == 0).mean() > 0.03, f"{asset_id} covers {(seg == 0).mean():.1%} of its preview"
+    assert rgb.std() > 5
+    renderer.close()
+
+
+def _receptacle_world_pose(world, obj_id, rec):
+    """World (x, y, z) of a receptacle's centre and the object's yaw (radians)."""
+    obj = world.scene.object(obj_id)
+    yaw = math.radians(obj.rotation[2])
+    link = world.assets[obj_id].link(rec.link)
+    offset = np.array(link.pos, dtype=float)
+    if link.joint is not None and link.joint.kind == "slide":
+        offset += np.asarray(link.joint.axis) * link.joint.range[1]  # drawers are opened first
+    local = offset + np.array([rec.center[0], rec.center[1], rec.height])
+    c, s = math.cos(yaw), math.sin(yaw)
+    return np.array(obj.position) + np.array([c * local[0] - s * local[1], s * local[0] + c * local[1], local[2]]), yaw
+
+
+RECEPTACLE_CASES = [(a, r.name) for a in BUILTIN for r in registry.make(a, 0).receptacles]
+
+
+@pytest.mark.parametrize("asset_id,receptacle", RECEPTACLE_CASES, ids=[f"{a}-{r}" for a, r in RECEPTACLE_CASES])
+def test_receptacle_holds_a_dropped_object(asset_id, receptacle):
+    """An apple dropped 3 cm above a receptacle comes to rest on it."""
+    model = registry.make(asset_id, 0)
+    rec = next(r for r in model.receptacles if r.name == receptacle)
+    base = {
+        "rooms": [{"id": "r", "type": "test", "name": "floor", "polygon": [[-3, -3], [3, -3], [3, 3], [-3, 3]]}],
+        "objects": [{"id": 0, "asset": asset_id, "position": [0, 0, 0], "rotation": [0, 0, 30]}],
+        "agent": {"position": [2.5, 2.5]},
+    }
+    link = model.link(rec.link)
+    if link.joint is not None:
+        base["objects"][0]["joints"] = {rec.link: link.joint.range[1]}
+    scene = validate_scene(base)
+    probe = build_world(scene)
+    target, _ = _receptacle_world_pose(probe, 0, rec)
+    apple_h = registry.make("apple", 0).size[2]
+    base["objects"].append({"id": 1, "asset": "apple", "position": [*target[:2], target[2] + 0.03],
+                            "kind": "interactable", "on": 0})
+    world = build_world(validate_scene(base))
+    for _ in range(int(1.5 / world.model.opt.timestep)):
+        mujoco.mj_step(world.model, world.data)
+    rest = world.object_position(1)
+    assert abs(rest[2] - target[2]) < 0.02, f"rests at z={rest[2]:.3f}, surface at {target[2]:.3f}"
+    assert np.linalg.norm(rest[:2] - target[:2]) < 0.05
+    assert np.linalg.norm(world.data.qvel[-6:-3]) < 0.05  # at rest
+    del apple_h
+
+
+def test_example_house_is_stable_under_physics(two_room):
+    """Small objects placed on surfaces stay within 2 cm over 2 s of simulation."""
+    world = build_world(two_room)
+    start = {i: world.object_position(i) for i in world.free_objects}
+    for _ in range(int(2.0 / world.model.opt.timestep)):
+        mujoco.mj_step(world.model, world.data)
+    moved = {i: float(np.linalg.norm(world.object_position(i) - start[i])) for i in start}
+    worst = max(moved, key=moved.get)
+    assert moved[worst] < 0.02, f"object {worst} ({two_room.object(worst).asset}) moved {moved[worst]:.3f} m"
+
+
+def _visible_by_ray(world, camera_pos, point, object_id) -> bool:
+    """A ray from the camera to the point first hits the object's own visual geometry."""
+    direction = point - camera_pos
+    geomid = np.array([-1], dtype=np.int32)
+    groups = np.array([1, 1, 0, 0, 0, 0], dtype=np.uint8)  # house and objects, not collision/avatars
+    dist = mujoco.mj_ray(world.model, world.data, camera_pos, direction / np.linalg.norm(direction),
+                         groups, 1, -1, geomid)
+    return dist > 0 and geomid[0] >= 0 and world.geom_object[geomid[0]] == object_id
+
+
+def test_segmentation_finds_every_visible_object(two_room):
+    world = build_world(two_room)
+    renderer = Renderer(world, 128, 128)
+    checked = 0
+    for x, y, yaw in [(2.0, 2.2, 0), (2.0, 2.2, 180), (8.6, 2.3, 180), (8.6, 2.3, 0), (3.0, 1.5, 90)]:
+        world.set_body_pose("agent", x, y, yaw, pitch_deg=20)
+        mujoco.mj_forward(world.model, world.data)
+        seg = renderer.segmentation("agent")
+        found = set(np.unique(seg[seg >= 0]).tolist())
+        cam_id = world.model.camera("agent_camera").id
+        cam_pos = world.data.cam_xpos[cam_id].copy()
+        cam_mat = world.data.cam_xmat[cam_id].reshape(3, 3)
+        for obj in two_room.objects:
+            lo, hi = world.assets[obj.id].bounds()
+            centre = world.object_position(obj.id) + (lo + hi) / 2 if obj.kind == "interactable" else \
+                np.array(obj.position) + np.array([0, 0, (lo[2] + hi[2]) / 2])
+            local = cam_mat.T @ (centre - cam_pos)
+            if local[2] > -0.3:  # behind the camera (a MuJoCo camera looks along its -z)
+                continue
+            half_fov = math.radians(world.model.cam_fovy[cam_id] / 2) * 0.8
+            if abs(local[0] / -local[2]) > math.tan(half_fov) or abs(local[1] / -local[2]) > math.tan(half_fov):
+                continue
+            extent = float(np.max(hi - lo))
+            pixels = extent / -local[2] * (128 / 2) / math.tan(math.radians(world.model.cam_fovy[cam_id] / 2))
+            if pixels >= 3 and _visible_by_ray(world, cam_pos, centre, obj.id):
+                checked += 1
+                assert obj.id in found, f"object {obj.id} ({obj.asset}) visible by ray but not segmented"
+    assert checked >= 15
+
+
+def test_segmentation_pixels_belong_to_their_objects(two_room):
+    """A pixel labelled with an object id lies on that object: its depth matches a ray hit."""
+    world = build_world(two_room)
+    renderer = Renderer(world, 64, 64)
+    seg = renderer.segmentation("agent")
+    geoms = renderer.geom_ids("agent")
+    assert (world.geom_object_lookup(geoms) == seg).all()
+    assert len(set(seg[seg >= 0].tolist())) >= 5
+
+
+def test_depth_matches_ray_distance(two_room):
+    world = build_world(two_room)
+    renderer = Renderer(world, 65, 65)
+    depth = renderer.depth("agent")
+    cam = world.model.camera("agent_camera").id
+    pos = world.data.cam_xpos[cam]
+    forward = -world.data.cam_xmat[cam].reshape(3, 3)[:, 2]
+    geomid = np.array([-1], dtype=np.int32)
+    dist = mujoco.mj_ray(world.model, world.data, pos, forward, np.array([1, 1, 1, 0, 0, 0], np.uint8), 1, -1, geomid)
+    assert depth[32, 32] == pytest.approx(dist, rel=0.02)
+
+
+def test_views_and_profiles(two_room):
+    world = build_world(two_room)
+    for profile in ("fast", "pretty"):
+        r = Renderer(world, 80, 60, profile)
+        for camera in ("agent", "user", "topdown", FreeCamera((5.5, 2.5, 0.5), 8, 90, -60)):
+            img = r.rgb(camera)
+            assert img.shape == (60, 80, 3) and img.dtype == np.uint8
+            assert img.std() > 3, f"{profile}/{camera} is blank"
+        a, b = r.rgb("agent"), r.rgb("agent")
+        assert a is not b and (a == b).all()
+        r.close()
+    with pytest.raises(ValueError, match="unknown camera"):
+        Renderer(world, 32, 32).rgb("nowhere")
+    with pytest.raises(ValueError, match="render profile"):
+        Renderer(world, 32, 32, "ultra")
+
+
+def test_agent_does_not_see_itself_but_sees_the_user():
+    scene = validate_scene({
+        "rooms": [{"id": "r", "type": "bedroom", "name": "room", "polygon": [[0, 0], [6, 0], [6, 4], [0, 4]]}],
+        "agent": {"position": [1, 2], "yaw": 0}, "user": {"position": [4, 2], "yaw": 180},
+    })
+    world = build_world(scene)
+    r = Renderer(world, 64, 64)
+    geoms = r.geom_ids("agent")
+    names = {world.model.geom(g).name for g in np.unique(geoms[geoms >= 0])}
+    assert "user_avatar" in names and "agent_avatar" not in names
+    geoms = r.geom_ids("user")
+    names = {world.model.geom(g).name for g in np.unique(geoms[geoms >= 0])}
+    assert "agent_avatar" in names and "user_avatar" not in names
+
+
+def test_doors_and_drawers_are_joints(two_room):
+    world = build_world(two_room)
+    inner = world.door_joint["inner"]
+    assert world.model.jnt_type[inner] == mujoco.mjtJoint.mjJNT_HINGE
+    assert abs(world.data.qpos[world.model.jnt_qposadr[inner]]) == pytest.approx(math.pi / 2)
+    dresser = next(o.id for o in two_room.objects if o.asset == "dresser")
+    joints = world.object_joints[dresser]
+    assert joints and all(world.model.jnt_type[j] == mujoco.mjtJoint.mjJNT_SLIDE for j in joints.values())
+    wardrobe = next(o.id for o in two_room.objects if o.asset == "wardrobe")
+    assert all(world.model.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE for j in world.object_joints[wardrobe].values())
+
+
+def test_static_geometry_is_merged(two_room):
+    """Few draw calls: one visual geom per object link, three for the whole house shell."""
+    world = build_world(two_room)
+    visual = world.model.geom_group != GROUP_COLLISION
+    n_links = sum(len(world.assets[o.id].links) for o in two_room.objects)
+    n_leaves = sum(d.leaf for d in two_room.doors)
+    assert visual.sum() <= n_links + n_leaves + 3 + 2
+    naive = build_world(two_room, BuildOptions(naive=True))
+    assert (naive.model.geom_group != GROUP_COLLISION).sum() > 3 * visual.sum()
+
+
+def test_gltf_asset_imports_renders_and_collides(tmp_path):
+    """A textured, vertex-coloured, multi-node GLB written by trimesh, used in a scene."""
+    import trimesh
+    from PIL import Image
+
+    box = trimesh.creation.box(extents=(0.1, 0.1, 0.1))
+    tex = np.zeros((8, 8, 3), dtype=np.uint8)
+    tex[:4] = (255, 0, 0)
+    tex[4:] = (0, 0, 255)
+    uv = np.random.default_rng(0).uniform(0, 1, (len(box.vertices), 2))
+    box.visual = trimesh.visual.TextureVisuals(uv=uv, image=Image.fromarray(tex))
+    sphere = trimesh.creation.icosphere(subdivisions=1, radius=0.04)
+    sphere.visual.vertex_colors = np.tile([0, 200, 0, 255], (len(sphere.vertices), 1))
+    glb_scene = trimesh.Scene()
+    glb_scene.add_geometry(box, node_name="body")
+    glb_scene.add_geometry(sphere, node_name="knob", transform=trimesh.transformations.translation_matrix([0, 0.09, 0]))
+    path = tmp_path / "gadget.glb"
+    path.write_bytes(glb_scene.export(file_type="glb"))
+
+    scene = validate_scene({
+        "rooms": [{"id": "r", "type": "test", "name": "floor", "polygon": [[-2, -2], [2, -2], [2, 2], [-2, 2]]}],
+        "assets": [ImportedAsset(id="gadget", source="gadget.glb", size=(0.15, 0.15, 0.15)).model_dump()],
+        "objects": [{"id": 0, "asset": "gadget", "position": [0, 0, 0.3], "kind": "interactable"}],
+        "agent": {"position": [1.5, 1.5]},
+    }, asset_known=None)
+    scene._base_dir = tmp_path
+    world = build_world(scene)
+    for _ in range(int(1.5 / world.model.opt.timestep)):
+        mujoco.mj_step(world.model, world.data)
+    assert abs(world.object_position(0)[2]) < 0.01  # fell and rests on the floor: it collides
+    renderer = Renderer(world, 64, 64)
+    seg = renderer.segmentation(FreeCamera((0, 0, 0.07), 0.5, 45, -30))
+    assert (seg == 0).mean() > 0.05
