@@ -241,3 +241,43 @@ def test_gltf_asset_imports_renders_and_collides(tmp_path):
     renderer = Renderer(world, 64, 64)
     seg = renderer.segmentation(FreeCamera((0, 0, 0.07), 0.5, 45, -30))
     assert (seg == 0).mean() > 0.05
+
+
+@pytest.mark.parametrize("preset", ["realistic", "flat", "pastel", "night", "greyscale"])
+def test_style_presets_change_the_look(two_room, preset):
+    scene = two_room.model_copy(deep=True)
+    scene.style.preset = preset
+    img = Renderer(build_world(scene), 48, 48).rgb("agent")
+    reference = Renderer(build_world(two_room), 48, 48).rgb("agent")
+    assert img.std() > 3
+    if preset == "realistic":
+        assert (img == reference).all()
+    else:
+        assert np.abs(img.astype(int) - reference).mean() > 2
+    if preset == "greyscale":
+        assert np.abs(img[..., 0].astype(int) - img[..., 2]).mean() < 6  # only the lights tint it
+
+
+def test_unknown_style_is_rejected(two_room):
+    from legent_gym.world.scene import SceneError
+
+    data = two_room.to_dict()
+    data["style"]["preset"] = "vaporwave"
+    with pytest.raises(SceneError, match="unknown style preset 'vaporwave'"):
+        validate_scene(data)
+
+
+def test_domain_randomisation_is_deterministic_and_changes_colours(two_room):
+    from legent_gym.world.styles import randomize_appearance
+
+    images = []
+    for seed in (1, 1, 2):
+        world = build_world(two_room)
+        renderer = Renderer(world, 48, 48)
+        before = renderer.rgb("agent")
+        randomize_appearance(world, np.random.default_rng(seed))
+        renderer.upload_textures()
+        images.append(renderer.rgb("agent"))
+        assert np.abs(images[-1].astype(int) - before).mean() > 2
+    assert (images[0] == images[1]).all()
+    assert not (images[0] == images[2]).all()

@@ -37,6 +37,7 @@ from legent_gym.world.meshing import (
     wall_pieces,
 )
 from legent_gym.world.scene import Scene, scene_base_dir
+from legent_gym.world.styles import get_style, styled_palette
 
 GROUP_HOUSE, GROUP_OBJECTS, GROUP_CEILING, GROUP_COLLISION, GROUP_AGENT, GROUP_USER = range(6)
 
@@ -192,9 +193,10 @@ class _SpecBuilder:
             g.offheight = self.options.offscreen_size
         spec.visual.map.znear = 0.01
         spec.visual.map.zfar = 50
-        ambient = self.scene.style.ambient
-        spec.visual.headlight.ambient = list(ambient)
-        spec.visual.headlight.diffuse = [0.25, 0.25, 0.25]
+        style = get_style(self.scene.style.preset)
+        self._style = style
+        spec.visual.headlight.ambient = [min(a * style.headlight_ambient, 1.0) for a in self.scene.style.ambient]
+        spec.visual.headlight.diffuse = [style.headlight_diffuse] * 3
         spec.visual.headlight.specular = [0.0, 0.0, 0.0]
         if not self.options.naive:
             tex = spec.add_texture(name="palette", type=mujoco.mjtTexture.mjTEXTURE_2D,
@@ -453,18 +455,20 @@ class _SpecBuilder:
         if not lights:
             (lo_x, lo_y), (hi_x, hi_y) = self.scene.bounds()
             wb.add_light(pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, 6.0], dir=[0.2, 0.3, -1.0],
-                         diffuse=[0.6, 0.6, 0.6], castshadow=False, name="sun")
+                         diffuse=[0.6 * self._style.light_scale] * 3, castshadow=False, name="sun")
             return
         # OpenGL's fixed pipeline draws at most 8 lights; keep the first 8.
+        scale = self._style.light_scale
         for i, light in enumerate(lights[:8]):
-            wb.add_light(pos=list(light.position), dir=list(light.direction), diffuse=list(light.diffuse),
+            wb.add_light(pos=list(light.position), dir=list(light.direction),
+                         diffuse=[min(c * scale, 1.0) for c in light.diffuse],
                          type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL if light.directional else mujoco.mjtLightType.mjLIGHT_SPOT,
                          castshadow=light.cast_shadow, cutoff=80.0, exponent=1.0, attenuation=[1.0, 0.05, 0.0],
                          name=f"light_{i}")
 
     def _finish_palette(self) -> None:
         if not self.options.naive:
-            self._palette_texture.data = self.palette.image().tobytes()
+            self._palette_texture.data = styled_palette(self.palette.image(), self._style).tobytes()
 
 
 def _point_in_polygon(point, polygon) -> bool:

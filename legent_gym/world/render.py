@@ -75,6 +75,7 @@ class Renderer:
     """
 
     def __init__(self, world: World, width: int = 96, height: int = 96, profile: Profile = "fast"):
+        self._context: mujoco.MjrContext | None = None  # first: __del__ runs even if we raise below
         if width < 1 or height < 1:
             raise ValueError(f"image size must be positive, got {width}x{height}")
         if profile not in ("fast", "pretty"):
@@ -82,7 +83,6 @@ class Renderer:
         self.world = world
         self.width, self.height = int(width), int(height)
         self.profile = profile
-        self._context: mujoco.MjrContext | None = None
         self._scene: mujoco.MjvScene | None = None
         self._option = mujoco.MjvOption()
         self._camera = mujoco.MjvCamera()

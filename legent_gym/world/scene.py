@@ -325,6 +325,10 @@ def check_references(scene: Scene, asset_known: AssetLookup | None = None) -> li
             if rid != "exterior" and rid not in room_ids:
                 problems.append((f"doors[{i}].connects[{j}]", f"unknown room {rid!r}"))
 
+    from legent_gym.world.styles import STYLES
+
+    if scene.style.preset not in STYLES:
+        problems.append(("style.preset", f"unknown style preset {scene.style.preset!r}; known: {', '.join(STYLES)}"))
     imported = {a.id for a in scene.assets}
     object_ids = {o.id for o in scene.objects}
     for i, obj in enumerate(scene.objects):

@@ -1,0 +1,105 @@
+"""Rendering styles and domain randomisation (the paper's "diverse rendering").
+
+A style preset decides lighting and transforms every colour of the scene's palette when a
+world is built (``Scene.style.preset``). Domain randomisation re-colours the palette
+texture and jitters the lights of an already built world in place, so an episode can get a
+new look without a rebuild: call :func:`randomize_appearance`, then the renderer's
+``upload_textures()``.
+"""
+
+from __future__ import annotations
+
+import colorsys
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+ColourTransform = Callable[[np.ndarray], np.ndarray]  # (N, 3) float RGB in [0, 1] -> same
+
+
+def _identity(rgb: np.ndarray) -> np.ndarray:
+    return rgb
+
+
+def _pastel(rgb: np.ndarray) -> np.ndarray:
+    return 0.55 * rgb + 0.45
+
+
+def _night(rgb: np.ndarray) -> np.ndarray:
+    return rgb * np.array([0.75, 0.78, 1.0])
+
+
+def _greyscale(rgb: np.ndarray) -> np.ndarray:
+    grey = rgb @ np.array([0.299, 0.587, 0.114])
+    return np.repeat(grey[:, None], 3, axis=1)
+
+
+@dataclass(frozen=True)
+class StylePreset:
+    name: str
+    description: str
+    headlight_ambient: float  # scales the scene's ambient
+    headlight_diffuse: float
+    light_scale: float  # scales every scene light's diffuse colour
+    colours: ColourTransform = _identity
+
+
+STYLES: dict[str, StylePreset] = {
+    s.name: s
+    for s in (
+        StylePreset("realistic", "scene colours, ceiling lights, soft ambient", 1.0, 0.25, 1.0),
+        StylePreset("flat", "unshaded flat colours, like a cartoon or a map", 2.6, 0.0, 0.0),
+        StylePreset("pastel", "light, washed-out colours", 1.1, 0.25, 1.0, _pastel),
+        StylePreset("night", "dim, blue ambient with warm ceiling lights", 0.35, 0.05, 1.3, _night),
+        StylePreset("greyscale", "scene lighting, colours reduced to grey", 1.0, 0.25, 1.0, _greyscale),
+    )
+}
+
+
+def get_style(name: str) -> StylePreset:
+    try:
+        return STYLES[name]
+    except KeyError:
+        raise ValueError(f"unknown style preset {name!r}; known: {', '.join(STYLES)}") from None
+
+
+def styled_palette(image: np.ndarray, preset: StylePreset) -> np.ndarray:
+    """The palette texture (H, W, 3) uint8 with the preset's colour transform applied."""
+    rgb = image.reshape(-1, 3).astype(np.float64) / 255.0
+    out = np.clip(preset.colours(rgb), 0.0, 1.0)
+    return np.round(out * 255).astype(np.uint8).reshape(image.shape)
+
+
+def randomize_appearance(world, rng: np.random.Generator, *, hue: float = 0.08, saturation: float = 0.25,
+                         value: float = 0.2, light: float = 0.3) -> None:
+    """Re-colour the palette and jitter lights of a built world, in place.
+
+    Every palette colour gets its own hue shift (up to ``hue`` turns), and saturation and
+    value factors within ``1 +- saturation`` / ``1 +- value``; lights are scaled by up to
+    ``1 +- light``. Deterministic for a given generator state. Call ``upload_textures()``
+    on renderers of this world afterwards.
+    """
+    model = world.model
+    if not hasattr(world, "_base_palette"):
+        world._base_palette = _palette_texture(model).copy()
+        world._base_light_diffuse = model.light_diffuse.copy()
+        world._base_ambient = model.vis.headlight.ambient.copy()
+    base = world._base_palette.reshape(-1, 3).astype(np.float64) / 255.0
+    n = len(base)
+    hsv = np.array([colorsys.rgb_to_hsv(*c) for c in base])
+    hsv[:, 0] = (hsv[:, 0] + rng.uniform(-hue, hue, n)) % 1.0
+    hsv[:, 1] = np.clip(hsv[:, 1] * rng.uniform(1 - saturation, 1 + saturation, n), 0, 1)
+    hsv[:, 2] = np.clip(hsv[:, 2] * rng.uniform(1 - value, 1 + value, n), 0, 1)
+    rgb = np.array([colorsys.hsv_to_rgb(*c) for c in hsv])
+    _palette_texture(model)[:] = np.round(rgb * 255).astype(np.uint8).reshape(world._base_palette.shape)
+    if model.nlight:
+        model.light_diffuse[:] = world._base_light_diffuse * rng.uniform(1 - light, 1 + light, (model.nlight, 1))
+    model.vis.headlight.ambient[:] = world._base_ambient * rng.uniform(1 - light, 1 + light)
+
+
+def _palette_texture(model) -> np.ndarray:
+    """A writable view of the palette texture's bytes inside the model."""
+    tid = model.texture("palette").id
+    adr, w, h, c = model.tex_adr[tid], model.tex_width[tid], model.tex_height[tid], model.tex_nchannel[tid]
+    return model.tex_data[adr: adr + w * h * c].reshape(h, w, c)
