@@ -207,7 +207,7 @@ def make_bottle(rng: np.random.Generator) -> AssetModel:
 
 
 def make_cola_can(rng: np.random.Generator) -> AssetModel:
-    r, h = rng.uniform(0.031, 0.034), rng.uniform(0.112, 0.124)
+    r, h = rng.uniform(0.032, 0.034), rng.uniform(0.112, 0.124)
     color = pick(rng, ((0.8, 0.05, 0.07), (0.65, 0.04, 0.06), (0.1, 0.1, 0.1), (0.75, 0.75, 0.78)), jitter=0.03)
     metal = pick(rng, METALS[:2], jitter=0.02)
     parts = [lathe([(0.85 * r, 0.0), (r, 0.01), (r, h - 0.012), (0.85 * r, h)], color, "metal"),
