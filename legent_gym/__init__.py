@@ -12,3 +12,9 @@ Layers, from the bottom:
 from legent_gym import _gl  # noqa: F401  (must run before mujoco is imported)
 
 __version__ = "0.1.0"
+
+from legent_gym.envs.registration import ENV_IDS, register_envs  # noqa: E402
+
+register_envs()
+
+__all__ = ["ENV_IDS", "__version__"]

@@ -381,6 +381,7 @@ class _SpecBuilder:
         self._link_geoms(body, Link("leaf", [panel, *handles]), group=GROUP_HOUSE,
                          name=f"door_{door.id}", movable=True, cache=False)
         body.mass = 20.0
+        body.ipos = [leaf_w / 2, 0.0, door.height / 2]  # the leaf's centre: what "the door" is
         body.inertia = [2.0, 2.0, 2.0]
         body.explicitinertial = True
         self._door_initial = getattr(self, "_door_initial", {})
@@ -423,6 +424,7 @@ class _SpecBuilder:
                 target.add_joint(type=jtype, axis=list(j.axis), range=list(j.range), damping=j.damping,
                                  name=f"obj_{obj.id}_{link.name}_joint")
                 target.mass = 2.0
+                target.ipos = [0.0, 0.0, 0.0]
                 target.inertia = [0.05, 0.05, 0.05]
                 target.explicitinertial = True
             elif any(abs(c) > 0 for c in link.pos):

@@ -1,0 +1,416 @@
+"""The embodied agent (and the user): a kinematic, person-sized body in a built world.
+
+The body moves kinematically (the paper's actions are teleport-like: move forward N
+metres, turn N degrees) but never through things: a move is a sweep of rays against the
+world's collision geometry (walls, furniture, closed doors, objects on the floor, the other
+avatar) that stops at the first obstacle and reports the distance actually moved.
+
+Interaction goes through the camera's image centre, as in LEGENT: a ray from the head
+camera along the view axis picks what the agent looks at. Every interaction returns an
+:class:`Outcome`; a failed one says why (out of reach, nothing there, no room, ...).
+
+Reach: an interaction succeeds only if the point the agent looks at is within
+``reach`` metres (default 1.5) of the agent's centre, measured horizontally, and within
+``2 * reach`` along the view ray.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import mujoco
+import numpy as np
+
+from legent_gym.world.builder import GROUP_COLLISION, GROUP_HOUSE, GROUP_OBJECTS, World
+
+DEFAULT_REACH = 1.5
+PITCH_RANGE = (-60.0, 60.0)  # degrees; + looks down
+SETTLE_SECONDS = 1.0
+HAND_FORWARD, HAND_HEIGHT = 0.35, 1.0
+
+
+@dataclass
+class Outcome:
+    """What one primitive did. ``reason`` explains a failure (or a clipped value)."""
+
+    ok: bool
+    reason: str | None = None
+    moved: float = 0.0
+    target: int | str | None = None
+
+
+@dataclass
+class Hit:
+    """What the image centre shows: a scene object, a door, or house structure."""
+
+    distance: float  # along the view ray, metres
+    point: np.ndarray
+    object_id: int | None = None
+    door_id: str | None = None
+    geom: int = -1
+
+
+@dataclass
+class BodyState:
+    x: float
+    y: float
+    yaw: float  # degrees, 0 looks along +x, + turns left
+    pitch: float = 0.0  # degrees, + looks down
+    held: int | None = None
+    history: list = field(default_factory=list)
+
+
+def _names(world: World, object_id: int) -> str:
+    obj = world.scene.object(object_id)
+    return f"{object_id} ({world.assets[object_id].names[0]})" if obj else str(object_id)
+
+
+class Body:
+    """A kinematic avatar (``name`` is ``"agent"`` or ``"user"``) in a world."""
+
+    def __init__(self, world: World, name: str = "agent", *, reach: float = DEFAULT_REACH,
+                 pitch_range: tuple[float, float] = PITCH_RANGE, other: str | None = None):
+        self.world = world
+        self.name = name
+        self.options = world.options.agent if name == "agent" else world.options.user
+        self.reach = reach
+        self.pitch_range = pitch_range
+        spawn = world.scene.agent if name == "agent" else (world.scene.user or world.scene.agent)
+        self.state = BodyState(spawn.position[0], spawn.position[1], spawn.yaw)
+        self._body_id = world.model.body(name).id
+        self._other = other
+        self._sync()
+
+    # -- pose ------------------------------------------------------------------------------
+    @property
+    def position(self) -> np.ndarray:
+        return np.array([self.state.x, self.state.y])
+
+    @property
+    def camera_position(self) -> np.ndarray:
+        return np.array([self.state.x, self.state.y, self.options.camera_height])
+
+    def view_direction(self) -> np.ndarray:
+        yaw, pitch = math.radians(self.state.yaw), math.radians(self.state.pitch)
+        return np.array([math.cos(yaw) * math.cos(pitch), math.sin(yaw) * math.cos(pitch), -math.sin(pitch)])
+
+    def place(self, x: float, y: float, yaw: float, pitch: float = 0.0) -> None:
+        self.state.x, self.state.y, self.state.yaw = float(x), float(y), float(yaw) % 360.0
+        self.state.pitch = float(np.clip(pitch, *self.pitch_range))
+        self._sync()
+
+    def _sync(self) -> None:
+        s = self.state
+        self.world.set_body_pose(self.name, s.x, s.y, s.yaw, s.pitch)
+        if s.held is not None:
+            self._carry()
+        mujoco.mj_kinematics(self.world.model, self.world.data)
+
+    # -- locomotion ------------------------------------------------------------------------
+    def free_distance(self, direction_deg: float, distance: float) -> float:
+        """How far the body can go along a heading before touching anything (<= distance)."""
+        if distance <= 0:
+            return 0.0
+        yaw = math.radians(direction_deg)
+        forward = np.array([math.cos(yaw), math.sin(yaw), 0.0])
+        left = np.array([-forward[1], forward[0], 0.0])
+        r = self.options.radius
+        model, data = self.world.model, self.world.data
+        groups = np.zeros(6, dtype=np.uint8)
+        groups[GROUP_COLLISION] = 1
+        best = distance
+        exclude = self.world.object_body[self.state.held] if self.state.held is not None else -1
+        geomid = np.zeros(1, dtype=np.int32)
+        for height in (0.05, 0.4, 0.9, min(1.5, self.options.height - 0.05)):
+            for lateral in (-r, -r / 2, 0.0, r / 2, r):
+                start = np.array([self.state.x, self.state.y, height]) + left * lateral
+                # Start a little behind the front of the body, so that an obstacle already
+                # touching the body's side is seen.
+                reach_front = math.sqrt(max(r * r - lateral * lateral, 0.0))
+                dist = mujoco.mj_ray(model, data, start, forward, groups, 1, exclude, geomid)
+                if dist >= 0:
+                    best = min(best, dist - reach_front - 0.02)
+        other = self._other_position()
+        if other is not None:
+            best = min(best, _circle_hit(self.position, forward[:2], other, r + self._other_radius(), distance))
+        return max(0.0, best)
+
+    def move_forward(self, distance: float) -> Outcome:
+        free = self.free_distance(self.state.yaw, distance)
+        yaw = math.radians(self.state.yaw)
+        self.state.x += math.cos(yaw) * free
+        self.state.y += math.sin(yaw) * free
+        self._sync()
+        if free + 1e-6 < distance:
+            return Outcome(True, f"blocked after {free:.2f} m of {distance:.2f} m", moved=free)
+        return Outcome(True, moved=free)
+
+    def rotate_right(self, degrees: float) -> Outcome:
+        self.state.yaw = (self.state.yaw - degrees) % 360.0
+        self._sync()
+        return Outcome(True)
+
+    def rotate_down(self, degrees: float) -> Outcome:
+        wanted = self.state.pitch + degrees
+        self.state.pitch = float(np.clip(wanted, *self.pitch_range))
+        self._sync()
+        if self.state.pitch != wanted:
+            return Outcome(True, f"pitch clamped to {self.state.pitch:.0f} degrees (range {self.pitch_range})")
+        return Outcome(True)
+
+    def _other_position(self) -> np.ndarray | None:
+        if self._other is None:
+            return None
+        mocap = self.world.model.body(self._other).mocapid[0]
+        pos = self.world.data.mocap_pos[mocap]
+        return None if pos[2] < -1 else pos[:2].copy()
+
+    def _other_radius(self) -> float:
+        return (self.world.options.user if self._other == "user" else self.world.options.agent).radius
+
+    # -- looking ---------------------------------------------------------------------------
+    def look(self) -> Hit | None:
+        """What is at the image centre (the first visible surface along the view axis)."""
+        groups = np.zeros(6, dtype=np.uint8)
+        groups[GROUP_HOUSE] = groups[GROUP_OBJECTS] = 1
+        exclude = self.world.object_body[self.state.held] if self.state.held is not None else -1
+        geomid = np.zeros(1, dtype=np.int32)
+        direction = self.view_direction()
+        dist = mujoco.mj_ray(self.world.model, self.world.data, self.camera_position, direction, groups, 1,
+                             exclude, geomid)
+        if dist < 0:
+            return None
+        g = int(geomid[0])
+        obj = int(self.world.geom_object[g])
+        return Hit(dist, self.camera_position + direction * dist, obj if obj >= 0 else None,
+                   self.world.geom_door.get(g), g)
+
+    def horizontal_distance(self, point) -> float:
+        return float(np.hypot(point[0] - self.state.x, point[1] - self.state.y))
+
+    def _in_reach(self, hit: Hit) -> str | None:
+        d = self.horizontal_distance(hit.point)
+        if d > self.reach or hit.distance > 2 * self.reach:
+            return f"out of reach ({d:.2f} m away, reach {self.reach:.2f} m)"
+        return None
+
+    def _resolve(self, target) -> tuple[Hit | None, str | None]:
+        """The hit to act on: what the image centre shows, or an addressed target."""
+        if target is None:
+            hit = self.look()
+            if hit is None or (hit.object_id is None and hit.door_id is None):
+                return None, "nothing to interact with at the image centre"
+            return hit, self._in_reach(hit)
+        if isinstance(target, str):
+            if target not in self.world.door_joint:
+                return None, f"no door with id {target!r}"
+            centre = self.world.data.xipos[self.world.door_body[target]]
+            hit = Hit(float(np.linalg.norm(centre - self.camera_position)), centre.copy(), door_id=target)
+            return hit, self._in_reach(hit)
+        if target not in self.world.object_body:
+            return None, f"no object with id {target}"
+        centre = self._object_centre(target)
+        hit = Hit(float(np.linalg.norm(centre - self.camera_position)), centre, object_id=int(target))
+        return hit, self._in_reach(hit)
+
+    def _object_centre(self, object_id: int) -> np.ndarray:
+        lo, hi = self.world.assets[object_id].bounds()
+        body = self.world.object_body[object_id]
+        rot = self.world.data.xmat[body].reshape(3, 3)
+        return self.world.data.xpos[body] + rot @ ((lo + hi) / 2)
+
+    # -- interactions ----------------------------------------------------------------------
+    def grab(self, target: int | None = None) -> Outcome:
+        if self.state.held is not None:
+            return Outcome(False, f"hands are full: holding {_names(self.world, self.state.held)}")
+        hit, problem = self._resolve(target)
+        if problem:
+            return Outcome(False, problem)
+        if hit.object_id is None:
+            return Outcome(False, "that is a door: it cannot be picked up")
+        if self.world.scene.object(hit.object_id).kind != "interactable":
+            return Outcome(False, f"object {_names(self.world, hit.object_id)} cannot be picked up")
+        self.state.held = hit.object_id
+        self._set_collisions(hit.object_id, enabled=False)
+        self._carry()
+        mujoco.mj_kinematics(self.world.model, self.world.data)
+        return Outcome(True, target=hit.object_id)
+
+    def put(self, target: int | None = None) -> Outcome:
+        held = self.state.held
+        if held is None:
+            return Outcome(False, "not holding anything")
+        hit, problem = self._resolve(target)
+        if problem:
+            return Outcome(False, problem)
+        if hit.object_id is None:
+            return Outcome(False, "there is no surface to put things on at the image centre")
+        spot = self._free_spot(hit.object_id, hit.point if target is None else None, held)
+        if isinstance(spot, str):
+            return Outcome(False, spot)
+        self._release(held, spot)
+        return Outcome(True, target=hit.object_id)
+
+    def open(self, target: int | str | None = None) -> Outcome:
+        return self._articulate(target, opening=True)
+
+    def close(self, target: int | str | None = None) -> Outcome:
+        return self._articulate(target, opening=False)
+
+    def interact(self, target: int | str | None = None) -> Outcome:
+        """LEGENT's generic action: put when holding, else grab, else open or close."""
+        if self.state.held is not None:
+            return self.put(target if isinstance(target, int) else None)
+        hit, problem = self._resolve(target)
+        if problem:
+            return Outcome(False, problem)
+        if hit.object_id is not None and self.world.scene.object(hit.object_id).kind == "interactable":
+            return self.grab(hit.object_id)
+        joint = self._joint_for(hit)
+        if joint is None:
+            return Outcome(False, f"object {_names(self.world, hit.object_id)} cannot be picked up or opened")
+        lo, hi = self.world.model.jnt_range[joint]
+        value = self.world.data.qpos[self.world.model.jnt_qposadr[joint]]
+        is_open = abs(value) > 0.5 * max(abs(lo), abs(hi))
+        return self._articulate(hit.door_id if hit.door_id else hit.object_id, opening=not is_open)
+
+    # -- helpers ---------------------------------------------------------------------------
+    def _joint_for(self, hit: Hit, opening: bool | None = None) -> int | None:
+        """The joint an open/close acts on: the door's hinge, or the looked-at furniture part."""
+        if hit.door_id is not None:
+            return self.world.door_joint.get(hit.door_id)
+        joints = self.world.object_joints.get(hit.object_id, {})
+        if not joints:
+            return None
+        model = self.world.model
+        if hit.geom >= 0:  # the link that was looked at, if it moves
+            body = model.geom_bodyid[hit.geom]
+            for jid in joints.values():
+                if model.jnt_bodyid[jid] == body:
+                    return jid
+        for jid in joints.values():  # else the first one that can change
+            value = self.world.data.qpos[model.jnt_qposadr[jid]]
+            lo, hi = model.jnt_range[jid]
+            limit = hi if abs(hi) > abs(lo) else lo
+            if opening is None or (opening and abs(value) < 0.5 * abs(limit)) or \
+                    (not opening and abs(value) >= 0.5 * abs(limit)):
+                return jid
+        return next(iter(joints.values()))
+
+    def _articulate(self, target, opening: bool) -> Outcome:
+        hit, problem = self._resolve(target)
+        if problem:
+            return Outcome(False, problem)
+        joint = self._joint_for(hit, opening)
+        what = f"door {hit.door_id!r}" if hit.door_id else f"object {_names(self.world, hit.object_id)}"
+        if joint is None:
+            return Outcome(False, f"{what} has nothing to open or close")
+        model, data = self.world.model, self.world.data
+        lo, hi = model.jnt_range[joint]
+        limit = hi if abs(hi) > abs(lo) else lo
+        adr = model.jnt_qposadr[joint]
+        goal = limit if opening else 0.0
+        if abs(data.qpos[adr] - goal) < 1e-3:
+            return Outcome(False, f"{what} is already {'open' if opening else 'closed'}")
+        data.qpos[adr] = goal
+        data.qvel[model.jnt_dofadr[joint]] = 0.0
+        if hit.door_id is None:
+            self._settle(0.3)  # things inside a drawer or on a door move with it
+        mujoco.mj_kinematics(model, data)
+        return Outcome(True, target=hit.door_id or hit.object_id)
+
+    def _carry(self) -> None:
+        held = self.state.held
+        model, data = self.world.model, self.world.data
+        yaw = math.radians(self.state.yaw)
+        lo, hi = self.world.assets[held].bounds()
+        pos = (self.state.x + math.cos(yaw) * HAND_FORWARD, self.state.y + math.sin(yaw) * HAND_FORWARD,
+               HAND_HEIGHT - (lo[2] + hi[2]) / 2)
+        joint = model.body_jntadr[self.world.object_body[held]]
+        adr, dof = model.jnt_qposadr[joint], model.jnt_dofadr[joint]
+        data.qpos[adr:adr + 3] = pos
+        data.qpos[adr + 3:adr + 7] = (math.cos(yaw / 2), 0, 0, math.sin(yaw / 2))
+        data.qvel[dof:dof + 6] = 0
+
+    def _set_collisions(self, object_id: int, enabled: bool) -> None:
+        model = self.world.model
+        body = self.world.object_body[object_id]
+        for g in range(model.body_geomadr[body], model.body_geomadr[body] + model.body_geomnum[body]):
+            if model.geom_group[g] == GROUP_COLLISION:
+                model.geom_contype[g] = model.geom_conaffinity[g] = 1 if enabled else 0
+
+    def _free_spot(self, host: int, near: np.ndarray | None, item: int):
+        """Where on ``host``'s receptacles the item fits (near a looked-at point), or why not."""
+        world = self.world
+        asset = world.assets[host]
+        if not asset.receptacles:
+            return f"object {_names(world, host)} has no surface to put things on"
+        item_lo, item_hi = world.assets[item].bounds()
+        item_r = float(np.hypot(*(item_hi[:2] - item_lo[:2]))) / 2
+        item_h = float(item_hi[2] - item_lo[2])
+        body = world.object_body[host]
+        others = [o for o in world.free_objects if o not in (item, host)]
+        candidates = []
+        for rec in asset.receptacles:
+            link_body = body if rec.link == "base" else world.model.body(f"obj_{host}_{rec.link}").id
+            rot = world.data.xmat[link_body].reshape(3, 3)
+            origin = world.data.xpos[link_body]
+            if rec.clearance < item_h:
+                continue
+            hx, hy = rec.half_size[0] - item_r * 0.6, rec.half_size[1] - item_r * 0.6
+            if hx < 0 or hy < 0:
+                continue
+            if near is not None:
+                local = rot.T @ (near - origin)
+                if abs(local[2] - rec.height) > 0.06:
+                    continue
+                points = [(np.clip(local[0], rec.center[0] - hx, rec.center[0] + hx),
+                           np.clip(local[1], rec.center[1] - hy, rec.center[1] + hy))]
+            else:
+                points = [(rec.center[0] + fx * hx, rec.center[1] + fy * hy)
+                          for fx in (0, -0.6, 0.6) for fy in (0, -0.6, 0.6)]
+            for px, py in points:
+                candidates.append(origin + rot @ np.array([px, py, rec.height]))
+        if not candidates:
+            return (f"no surface of object {_names(world, host)} at the image centre" if near is not None
+                    else f"object {_names(world, host)} has no surface the item fits on")
+        for spot in candidates:
+            crowded = any(np.hypot(*(world.object_position(o)[:2] - spot[:2])) < item_r + 0.04 and
+                          abs(world.object_position(o)[2] - spot[2]) < 0.15 for o in others)
+            if not crowded:
+                return spot
+        return f"no room on object {_names(world, host)}"
+
+    def _release(self, item: int, spot: np.ndarray) -> None:
+        model, data = self.world.model, self.world.data
+        lo, _ = self.world.assets[item].bounds()
+        joint = model.body_jntadr[self.world.object_body[item]]
+        adr, dof = model.jnt_qposadr[joint], model.jnt_dofadr[joint]
+        data.qpos[adr:adr + 3] = (spot[0], spot[1], spot[2] - lo[2] + 0.01)  # released just above
+        data.qvel[dof:dof + 6] = 0
+        self.state.held = None
+        self._set_collisions(item, enabled=True)
+        self._settle(SETTLE_SECONDS)
+
+    def _settle(self, seconds: float) -> None:
+        """Run physics until things come to rest (or ``seconds`` of simulated time pass)."""
+        model, data = self.world.model, self.world.data
+        steps = int(seconds / model.opt.timestep)
+        for i in range(steps):
+            mujoco.mj_step(model, data)
+            if i > 20 and i % 10 == 0 and np.abs(data.qvel).max() < 1e-3:
+                break
+        if self.state.held is not None:
+            self._carry()
+        # Avatars are mocap bodies: physics never moves them, so nothing else to restore.
+
+
+def _circle_hit(start: np.ndarray, direction: np.ndarray, centre: np.ndarray, radius: float, limit: float) -> float:
+    """Distance along a ray from ``start`` to where it enters a circle (``limit`` if never)."""
+    rel = centre - start
+    along = float(rel @ direction)
+    perp2 = float(rel @ rel) - along * along
+    if along < 0 or perp2 > radius * radius:
+        return limit
+    return max(0.0, along - math.sqrt(radius * radius - perp2))

@@ -1,0 +1,123 @@
+"""What a task is: it picks a goal in a house, words an instruction, and judges success.
+
+Tasks know the world (scene, built world, navigation grid, the agent's and user's bodies)
+through :class:`TaskContext`; they know nothing of Gymnasium.
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import Any
+
+import mujoco
+import numpy as np
+
+from legent_gym.agent.body import Body
+from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS, World
+from legent_gym.world.navigation import NavGrid
+from legent_gym.world.scene import Scene
+
+
+@dataclass
+class TaskContext:
+    """Everything a task may read: privileged state, never shown to the agent directly."""
+
+    scene: Scene
+    world: World
+    agent: Body
+    user: Body
+    nav: NavGrid
+    speech: list[str] = field(default_factory=list)  # what the agent said this episode
+    finished: bool = False
+
+    def name_of(self, object_id: int) -> str:
+        return self.world.assets[object_id].names[0]
+
+    def names_of(self, object_id: int) -> list[str]:
+        return [n.lower() for n in self.world.assets[object_id].names]
+
+    def category_count(self, category: str) -> int:
+        return sum(1 for o in self.scene.objects if self.world.assets[o.id].category == category)
+
+    def unique_objects(self, *, interactable: bool | None = None) -> list[int]:
+        """Objects whose category appears once in the house, so "the apple" is unambiguous."""
+        out = []
+        for obj in self.scene.objects:
+            if interactable is not None and (obj.kind == "interactable") != interactable:
+                continue
+            if self.category_count(self.world.assets[obj.id].category) == 1:
+                out.append(obj.id)
+        return out
+
+    def object_centre(self, object_id: int) -> np.ndarray:
+        return self.agent._object_centre(object_id)
+
+    def horizontal_distance(self, body: Body, point) -> float:
+        return body.horizontal_distance(point)
+
+    def is_visible(self, body: Body, object_id: int, max_fov_deg: float | None = None) -> bool:
+        """The object's centre is in the camera's view and a ray to it hits the object first."""
+        centre = self.object_centre(object_id)
+        eye = body.camera_position
+        to = centre - eye
+        dist = float(np.linalg.norm(to))
+        if dist < 1e-6:
+            return True
+        forward = body.view_direction()
+        fov = max_fov_deg if max_fov_deg is not None else body.options.fovy
+        if math.degrees(math.acos(float(np.clip(to @ forward / dist, -1, 1)))) > fov / 2:
+            return False
+        groups = np.zeros(6, dtype=np.uint8)
+        groups[GROUP_HOUSE] = groups[GROUP_OBJECTS] = 1
+        geomid = np.zeros(1, dtype=np.int32)
+        held = body.state.held
+        exclude = self.world.object_body[held] if held is not None and held != object_id else -1
+        hit = mujoco.mj_ray(self.world.model, self.world.data, eye, to / dist, groups, 1, exclude, geomid)
+        return hit >= 0 and int(self.world.geom_object[geomid[0]]) == object_id
+
+    def reachable_from_agent(self, object_id: int, reach: float) -> bool:
+        return self.nav.standing_point(object_id, reach=reach * 0.8, start=tuple(self.agent.position)) is not None
+
+
+@dataclass
+class Evaluation:
+    success: bool
+    ends: bool  # the episode is over (success, or a terminal failure such as a wrong answer)
+    #: Geodesic metres left to the current sub-goal (for shaped rewards); None if not defined.
+    distance: float | None = None
+    info: dict[str, Any] = field(default_factory=dict)
+
+
+class TaskInstance(ABC):
+    """One sampled goal in one house: subclasses are dataclasses with ``instruction`` and,
+    where the task has them, ``target`` and ``receptacle`` object ids."""
+
+    instruction: str
+
+    @abstractmethod
+    def evaluate(self, ctx: TaskContext) -> Evaluation: ...
+
+    def describe(self) -> dict[str, Any]:
+        return {"target": getattr(self, "target", None), "receptacle": getattr(self, "receptacle", None)}
+
+
+class Task(ABC):
+    """A task family: ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn."""
+
+    name: str = "task"
+    #: Instruction paraphrases; ``{a}`` and ``{b}`` stand for object names.
+    templates: tuple[str, ...] = ()
+
+    def house_conditions(self) -> dict[str, Any]:
+        """Generation conditions this task needs of a house (e.g. a minimum start distance)."""
+        return {}
+
+    @abstractmethod
+    def sample(self, ctx: TaskContext, rng: np.random.Generator) -> TaskInstance | None:
+        """A goal in this house, or None if the house offers none (a new house is drawn)."""
+
+    def word(self, rng: np.random.Generator, **names: str) -> str:
+        template = self.templates[int(rng.integers(len(self.templates)))]
+        return template.format(**names)

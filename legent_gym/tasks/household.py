@@ -1,0 +1,247 @@
+"""The paper's six task templates (Table 2): ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn.
+
+Success rules (LEGENT's where it had one):
+
+* ComeHere: the agent is within 2.0 m (horizontal) of the user, checked after every action.
+* GoTo(A): A is within reach of the agent and visible in its view.
+* PickUp(A): the agent holds A.
+* BringMe(A): the agent holds A within 2.0 m of the user.
+* WhereIs(A): the agent's speech names A's receptacle (its name or a synonym, a
+  lower-cased substring match as in LEGENT); any speech ends the episode.
+* PutOn(A, B): A rests on B (not held, on one of B's surfaces, at rest).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
+
+COME_HERE_DISTANCE = 2.0
+
+
+def _said(ctx: TaskContext, names: list[str]) -> bool:
+    return any(name in text.lower() for text in ctx.speech for name in names)
+
+
+def _goal_distance(ctx: TaskContext, point) -> float:
+    return float(ctx.nav.distance(tuple(ctx.agent.position), (float(point[0]), float(point[1]))))
+
+
+def _object_distance(ctx: TaskContext, object_id: int) -> float:
+    """Geodesic metres from the agent to where it could reach the object."""
+    if ctx.agent.state.held == object_id:
+        return 0.0
+    stand = ctx.nav.standing_point(object_id, reach=ctx.agent.reach * 0.8, start=tuple(ctx.agent.position))
+    return _goal_distance(ctx, stand) if stand is not None else float("inf")
+
+
+def _rests_on(ctx: TaskContext, item: int, host: int) -> bool:
+    """The item is not held, at rest, and over one of the host's surfaces at its height."""
+    if ctx.agent.state.held == item:
+        return False
+    world = ctx.world
+    pos = world.object_position(item)
+    body = world.object_body[host]
+    for rec in world.assets[host].receptacles:
+        link_body = body if rec.link == "base" else world.model.body(f"obj_{host}_{rec.link}").id
+        rot = world.data.xmat[link_body].reshape(3, 3)
+        local = rot.T @ (pos - world.data.xpos[link_body])
+        if (abs(local[0] - rec.center[0]) <= rec.half_size[0] + 0.02 and
+                abs(local[1] - rec.center[1]) <= rec.half_size[1] + 0.02 and abs(local[2] - rec.height) < 0.06):
+            return True
+    return False
+
+
+# ---------------------------------------------------------------------------------------
+
+
+@dataclass
+class ComeHereInstance(TaskInstance):
+    instruction: str
+
+    def evaluate(self, ctx: TaskContext) -> Evaluation:
+        gap = ctx.agent.horizontal_distance(ctx.user.position)
+        done = gap < COME_HERE_DISTANCE
+        return Evaluation(done, done, max(_goal_distance(ctx, ctx.user.position) - COME_HERE_DISTANCE, 0.0),
+                          {"distance_to_user": gap})
+
+
+class ComeHere(Task):
+    name = "ComeHere"
+    templates = ("Come here.", "Come to me.", "Can you come over here?", "Please come here.",
+                 "Come over here, please.", "Could you come to me?")
+
+    def house_conditions(self):
+        return {"min_user_distance": 3.0}  # LEGENT's evaluation starts at least 3 m apart
+
+    def sample(self, ctx, rng):
+        return ComeHereInstance(self.word(rng))
+
+
+@dataclass
+class GoToInstance(TaskInstance):
+    instruction: str
+    target: int
+
+    def evaluate(self, ctx):
+        near = ctx.agent.horizontal_distance(ctx.object_centre(self.target)) <= ctx.agent.reach
+        done = near and ctx.is_visible(ctx.agent, self.target)
+        return Evaluation(done, done, _object_distance(ctx, self.target))
+
+
+class GoTo(Task):
+    name = "GoTo"
+    templates = ("Go to the {a}.", "Walk over to the {a}.", "Head to the {a}.", "Please go to the {a}.",
+                 "Can you go to the {a}?")
+
+    def sample(self, ctx, rng):
+        options = [o for o in ctx.unique_objects() if ctx.reachable_from_agent(o, ctx.agent.reach)
+                   and ctx.agent.horizontal_distance(ctx.object_centre(o)) > ctx.agent.reach + 0.5]
+        if not options:
+            return None
+        target = int(rng.choice(options))
+        return GoToInstance(self.word(rng, a=ctx.name_of(target)), target)
+
+
+def _pickable(ctx: TaskContext) -> list[int]:
+    return [o for o in ctx.unique_objects(interactable=True) if ctx.reachable_from_agent(o, ctx.agent.reach)]
+
+
+@dataclass
+class PickUpInstance(TaskInstance):
+    instruction: str
+    target: int
+
+    def evaluate(self, ctx):
+        done = ctx.agent.state.held == self.target
+        return Evaluation(done, done, _object_distance(ctx, self.target))
+
+
+class PickUp(Task):
+    name = "PickUp"
+    templates = ("Pick up the {a}.", "Grab the {a}.", "Please pick up the {a}.", "Can you pick up the {a}?",
+                 "Take the {a}.")
+
+    def sample(self, ctx, rng):
+        options = _pickable(ctx)
+        if not options:
+            return None
+        target = int(rng.choice(options))
+        return PickUpInstance(self.word(rng, a=ctx.name_of(target)), target)
+
+
+@dataclass
+class BringMeInstance(TaskInstance):
+    instruction: str
+    target: int
+
+    def evaluate(self, ctx):
+        holding = ctx.agent.state.held == self.target
+        near = ctx.agent.horizontal_distance(ctx.user.position) < COME_HERE_DISTANCE
+        done = holding and near
+        if holding:
+            left = max(_goal_distance(ctx, ctx.user.position) - COME_HERE_DISTANCE, 0.0)
+        else:
+            left = _object_distance(ctx, self.target) + _goal_distance(ctx, ctx.user.position)
+        return Evaluation(done, done, left)
+
+
+class BringMe(Task):
+    name = "BringMe"
+    templates = ("Bring me the {a}.", "Can you bring me the {a}?", "Please bring the {a} to me.",
+                 "Fetch me the {a}.", "I need the {a}, bring it here.")
+
+    def sample(self, ctx, rng):
+        options = [o for o in _pickable(ctx)
+                   if ctx.user.horizontal_distance(ctx.object_centre(o)) > COME_HERE_DISTANCE]
+        if not options:
+            return None
+        target = int(rng.choice(options))
+        return BringMeInstance(self.word(rng, a=ctx.name_of(target)), target)
+
+
+@dataclass
+class WhereIsInstance(TaskInstance):
+    instruction: str
+    target: int
+    receptacle: int
+    answers: tuple[str, ...]
+
+    def evaluate(self, ctx):
+        done = _said(ctx, list(self.answers))
+        # Any speech ends the episode, right or wrong (LEGENT).
+        return Evaluation(done, bool(ctx.speech), _object_distance(ctx, self.target),
+                          {"answers": list(self.answers)})
+
+    def describe(self):
+        return {**super().describe(), "answers": list(self.answers)}
+
+
+class WhereIs(Task):
+    name = "WhereIs"
+    templates = ("Where is the {a}?", "Where's the {a}?", "Do you know where the {a} is?",
+                 "Can you tell me where the {a} is?", "I can't find the {a}. Where is it?")
+
+    def sample(self, ctx, rng):
+        options = []
+        for o in ctx.unique_objects(interactable=True):
+            host = ctx.scene.object(o).on
+            if host is None or not ctx.reachable_from_agent(o, 3.0):
+                continue
+            # The answer must name the host unambiguously: no other object shares a name with it.
+            host_names = ctx.names_of(host)
+            clash = any(n in ctx.names_of(other.id) for other in ctx.scene.objects if other.id != host
+                        for n in host_names[:1])
+            if not clash:
+                options.append((o, host))
+        if not options:
+            return None
+        target, host = options[int(rng.integers(len(options)))]
+        return WhereIsInstance(self.word(rng, a=ctx.name_of(target)), target, host, tuple(ctx.names_of(host)))
+
+
+@dataclass
+class PutOnInstance(TaskInstance):
+    instruction: str
+    target: int
+    receptacle: int
+
+    def evaluate(self, ctx):
+        done = _rests_on(ctx, self.target, self.receptacle)
+        if ctx.agent.state.held == self.target:
+            left = _object_distance(ctx, self.receptacle)
+        else:
+            left = _object_distance(ctx, self.target) + 1.0
+        return Evaluation(done, done, left)
+
+
+class PutOn(Task):
+    name = "PutOn"
+    templates = ("Put the {a} on the {b}.", "Place the {a} on the {b}.", "Can you put the {a} on the {b}?",
+                 "Move the {a} onto the {b}.", "Please set the {a} on the {b}.")
+
+    def sample(self, ctx, rng):
+        items = _pickable(ctx)
+        hosts = [o for o in ctx.unique_objects(interactable=False)
+                 if any(r.link == "base" and r.clearance > 0.25 and r.area > 0.08
+                        for r in ctx.world.assets[o].receptacles)
+                 and ctx.reachable_from_agent(o, ctx.agent.reach)]
+        pairs = [(a, b) for a in items for b in hosts if ctx.scene.object(a).on != b]
+        if not pairs:
+            return None
+        a, b = pairs[int(rng.integers(len(pairs)))]
+        return PutOnInstance(self.word(rng, a=ctx.name_of(a), b=ctx.name_of(b)), a, b)
+
+
+TASKS: dict[str, type[Task]] = {t.name: t for t in (ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn)}
+
+
+def make_task(name: str) -> Task:
+    try:
+        return TASKS[name]()
+    except KeyError:
+        raise ValueError(f"unknown task {name!r}; known: {', '.join(TASKS)}") from None
+
+
+__all__ = ["TASKS", "make_task", "ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn"]

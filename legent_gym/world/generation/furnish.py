@@ -1,0 +1,838 @@
+"""Furniture: what goes in each room type, and where.
+
+Each room type has priority pieces (a bedroom's bed, a kitchen's fridge and counter, ...)
+and optional ones with probabilities. A piece is anchored by its asset's ``placement``
+annotation: ``wall`` (back to a wall, front into the room), ``corner`` (flush in a convex
+corner) or ``middle`` (in open floor, preferring the most open spot). Some pieces come as
+groups placed as one unit: bed + nightstands, sofa + coffee table, desk + chair, dining
+table + chairs facing it, tv stand + tv on top.
+
+Pieces are axis-aligned (yaw a multiple of 90 degrees), so every footprint is an
+axis-aligned rectangle (``x0, y0, x1, y1``) and candidate poses are checked in bulk with
+numpy: inside the room's inner outline (the polygon inset by half a wall), clear of other
+pieces by a margin, of every piece's front clearance zone, of the free squares in front of
+doors, and (for tall pieces) of windows. After each accepted piece a small raster of the
+room checks that the agent can still walk between the room's doors and reach every piece.
+
+Phases: priority pieces in every room, then what the conditions still need, then optional
+pieces; so conditions get space before decoration does.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import ndimage
+
+from legent_gym.world.assets import registry
+from legent_gym.world.assets.model import AssetModel, Receptacle
+from legent_gym.world.generation.conditions import Catalog
+from legent_gym.world.generation.floorplan import WALL_THICKNESS, FloorPlan
+from legent_gym.world.navigation import (
+    _Raster,
+    door_keepout_squares,
+    door_leaf_open_segment,
+    door_passable,
+    leaf_half_thickness,
+    walkable_from_free,
+)
+
+EPS = 1e-6
+#: Gap between a piece's back and the wall face, and from a corner.
+WALL_GAP = 0.03
+#: Gap between members of a group (nightstand to bed, chair to table).
+GROUP_GAP = 0.05
+#: Depth of the no-tall-furniture zone in front of a window.
+WINDOW_DEPTH = 0.35
+AGENT_RADIUS = 0.25
+#: Reach used while furnishing: a little under the 1.0 m of the final check.
+REACH = 0.9
+#: Largest walkable area (m^2) a room may leave cut off from its doors.
+POCKET_AREA = 0.5
+#: Extra agent radius while furnishing, so borderline gaps pass the final check too.
+CHECK_MARGIN = 0.03
+
+
+class PlacementFailed(Exception):
+    """A piece the house must have does not fit (the caller retries or reports).
+    ``category`` names the furniture category a condition asked for, if that failed."""
+
+    def __init__(self, message: str, category: str | None = None):
+        super().__init__(message)
+        self.category = category
+
+
+@dataclass(frozen=True)
+class Rule:
+    category: str
+    p: float = 1.0
+    count: tuple[int, int] = (1, 1)
+    group: str | None = None
+
+
+#: Per room type: (priority pieces, optional pieces).
+ROOM_FURNITURE: dict[str, tuple[list[Rule], list[Rule]]] = {
+    "bedroom": (
+        [Rule("bed", group="bed")],
+        [Rule("wardrobe", 0.55), Rule("dresser", 0.5), Rule("desk", 0.25, group="desk"),
+         Rule("plant", 0.35), Rule("floor_lamp", 0.3), Rule("bookshelf", 0.2), Rule("armchair", 0.2),
+         Rule("tv_stand", 0.15, group="tv"), Rule("side_table", 0.15), Rule("sofa", 0.1), Rule("chair", 0.1)],
+    ),
+    "living_room": (
+        [Rule("sofa", group="sofa")],
+        [Rule("tv_stand", 0.8, group="tv"), Rule("armchair", 0.6, (1, 2)), Rule("bookshelf", 0.4),
+         Rule("plant", 0.6, (1, 2)), Rule("floor_lamp", 0.4), Rule("side_table", 0.4),
+         Rule("dining_table", 0.15, group="dining"), Rule("dresser", 0.15), Rule("desk", 0.1, group="desk")],
+    ),
+    "kitchen": (
+        [Rule("fridge"), Rule("kitchen_counter")],
+        [Rule("kitchen_counter", 0.5), Rule("sink", 0.5), Rule("dining_table", 0.35, group="dining"),
+         Rule("plant", 0.2), Rule("chair", 0.1)],
+    ),
+    "bathroom": (
+        [Rule("toilet")],
+        [Rule("sink", 0.9), Rule("bathtub", 0.6), Rule("plant", 0.1)],
+    ),
+    "dining_room": (
+        [Rule("dining_table", group="dining")],
+        [Rule("dresser", 0.4), Rule("bookshelf", 0.3), Rule("plant", 0.5), Rule("floor_lamp", 0.2),
+         Rule("side_table", 0.2), Rule("kitchen_counter", 0.1)],
+    ),
+    "office": (
+        [Rule("desk", group="desk")],
+        [Rule("bookshelf", 0.8, (1, 2)), Rule("armchair", 0.3), Rule("plant", 0.5), Rule("floor_lamp", 0.3),
+         Rule("side_table", 0.2), Rule("sofa", 0.15, group="sofa"), Rule("dresser", 0.15)],
+    ),
+    "hallway": (
+        [],
+        [Rule("side_table", 0.4), Rule("plant", 0.4), Rule("dresser", 0.2), Rule("bookshelf", 0.15),
+         Rule("chair", 0.1)],
+    ),
+}
+
+#: Group anchor -> the categories it may bring along.
+GROUP_MEMBERS: dict[str, tuple[str, ...]] = {
+    "bed": ("nightstand",),
+    "sofa": ("coffee_table",),
+    "desk": ("chair",),
+    "dining": ("chair",),
+    "tv": ("tv",),
+}
+#: Which group an anchor category forms when a condition asks for it on its own.
+DEFAULT_GROUP = {"bed": "bed", "sofa": "sofa", "desk": "desk", "dining_table": "dining", "tv_stand": "tv"}
+#: Surface furniture -> the categories it stands on.
+SUPPORTS = {"tv": ("tv_stand", "dresser", "side_table")}
+#: Probability of placing a user-registered category the tables do not know (if its
+#: ``rooms`` annotation allows the room).
+EXTRA_CATEGORY_P = 0.25
+
+
+def allowed_room_types(catalog: Catalog, category: str) -> set[str]:
+    """Room types a category may be placed in: the tables above plus the asset's own
+    ``rooms`` annotation (all types when neither says anything)."""
+    types = set()
+    for rtype, (prio, opt) in ROOM_FURNITURE.items():
+        for rule in prio + opt:
+            if rule.category == category or category in GROUP_MEMBERS.get(rule.group or "", ()):
+                types.add(rtype)
+            if category in SUPPORTS and rule.category in SUPPORTS[category]:
+                types.add(rtype)
+    if category in catalog.by_category:
+        for asset_id in catalog.by_category[category]:
+            types |= set(catalog.models[asset_id].rooms)
+    return types or set(ROOM_FURNITURE)
+
+
+# ---------------------------------------------------------------------------------------
+# Axis-aligned geometry with quarter-turn yaws (q = yaw / 90 in 0..3)
+
+_ROT = np.array([[[1, 0], [0, 1]], [[0, -1], [1, 0]], [[-1, 0], [0, -1]], [[0, 1], [-1, 0]]], dtype=np.float64)
+
+
+def turned_rect(local: np.ndarray, q: int) -> np.ndarray:
+    """(x0, y0, x1, y1) offsets of the local rectangle ``local`` turned by ``q`` quarter turns."""
+    x0, y0, x1, y1 = local
+    return np.array([(x0, y0, x1, y1), (-y1, x0, -y0, x1), (-x1, -y1, -x0, -y0), (y0, -x1, y1, -x0)][q % 4])
+
+
+def overlaps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(A, B) matrix: whether rectangles a[i] and b[j] overlap with positive area."""
+    if len(a) == 0 or len(b) == 0:
+        return np.zeros((len(a), len(b)), dtype=bool)
+    a, b = a[:, None, :], b[None, :, :]
+    return ((a[..., 0] < b[..., 2] - EPS) & (b[..., 0] < a[..., 2] - EPS)
+            & (a[..., 1] < b[..., 3] - EPS) & (b[..., 1] < a[..., 3] - EPS))
+
+
+def expand(rects: np.ndarray, m: float) -> np.ndarray:
+    return rects + np.array([-m, -m, m, m])
+
+
+def inset_polygon(poly: np.ndarray, d: float) -> np.ndarray:
+    """A counter-clockwise rectilinear polygon moved inward by ``d`` (each vertex shifts
+    by the inward normals of its two edges)."""
+    prev_e = poly - np.roll(poly, 1, axis=0)
+    next_e = np.roll(poly, -1, axis=0) - poly
+    n_prev = np.column_stack([-prev_e[:, 1], prev_e[:, 0]]) / np.linalg.norm(prev_e, axis=1)[:, None]
+    n_next = np.column_stack([-next_e[:, 1], next_e[:, 0]]) / np.linalg.norm(next_e, axis=1)[:, None]
+    return poly + d * (n_prev + n_next)
+
+
+def points_in_polygon(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    inside = np.zeros(len(pts), dtype=bool)
+    x, y = pts[:, 0], pts[:, 1]
+    for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
+        if ya == yb:
+            continue
+        crosses = (ya > y) != (yb > y)
+        x_at = xa + (y - ya) * (xb - xa) / (yb - ya)
+        inside ^= crosses & (x < x_at)
+    return inside
+
+
+def rects_in_polygon(rects: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    """Whether each rectangle lies inside a rectilinear polygon (touching allowed)."""
+    if len(rects) == 0:
+        return np.zeros(0, dtype=bool)
+    r = expand(rects, -1e-5)
+    corners = np.stack([r[:, [0, 1]], r[:, [2, 1]], r[:, [2, 3]], r[:, [0, 3]]], axis=1).reshape(-1, 2)
+    ok = points_in_polygon(corners, poly).reshape(-1, 4).all(axis=1)
+    vx, vy = poly[:, 0][None, :], poly[:, 1][None, :]
+    vertex_inside = ((vx > r[:, 0:1]) & (vx < r[:, 2:3]) & (vy > r[:, 1:2]) & (vy < r[:, 3:4])).any(axis=1)
+    return ok & ~vertex_inside
+
+
+# ---------------------------------------------------------------------------------------
+# Placed pieces and rooms
+
+
+@dataclass
+class Placed:
+    category: str
+    asset: str
+    variant: int
+    x: float
+    y: float
+    q: int  #: yaw in quarter turns (counter-clockwise)
+    model: AssetModel
+    room: int
+    group: int
+    rect: np.ndarray  #: world footprint (x0, y0, x1, y1)
+    front: np.ndarray | None  #: world front-clearance zone
+    z: float = 0.0
+    yaw: float | None = None  #: degrees; None means q * 90
+    support: int | None = None  #: index (in the house's list) of the piece it stands on
+    receptacle: int | None = None  #: which receptacle of the support
+    required: bool = False
+
+    @property
+    def yaw_deg(self) -> float:
+        return float(self.q * 90 % 360) if self.yaw is None else self.yaw
+
+    @property
+    def height(self) -> float:
+        return float(self.model.size[2])
+
+    @property
+    def on_floor(self) -> bool:
+        return self.support is None
+
+
+def local_rect(model: AssetModel) -> np.ndarray:
+    b = model.bounds()
+    return np.array([b[0, 0], b[0, 1], b[1, 0], b[1, 1]])
+
+
+@dataclass
+class Member:
+    """A group member's pose in its anchor's frame."""
+
+    category: str
+    asset: str
+    variant: int
+    model: AssetModel
+    dx: float
+    dy: float
+    dq: int
+
+
+@dataclass
+class RoomSpace:
+    """A room as the furnisher sees it."""
+
+    index: int
+    rtype: str
+    inner: np.ndarray  #: the floor polygon inset by half a wall (the free floor's outline)
+    keepouts: np.ndarray  #: door squares (K, 4)
+    windows: np.ndarray  #: (W, 5): zone rect + sill height
+    margin: float
+    #: Open door leaves swinging into this room, (hinge, tip) segments.
+    leaves: list[tuple[np.ndarray, np.ndarray]] = field(default_factory=list)
+    #: Where the agent stands right after passing each door (K, 4).
+    mouths: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
+    pieces: list[int] = field(default_factory=list)
+    reach: RoomReach | None = None
+
+    @property
+    def bbox(self) -> np.ndarray:
+        return np.concatenate([self.inner.min(axis=0), self.inner.max(axis=0)])
+
+    def edges(self):
+        """Inner wall edges: (start, unit direction, inward normal, length, start convex,
+        end convex); counter-clockwise, so the inward normal is the left normal."""
+        poly = self.inner
+        n = len(poly)
+        out = []
+        for k in range(n):
+            p0, p1 = poly[k], poly[(k + 1) % n]
+            d = p1 - p0
+            length = float(np.hypot(*d))
+            e = d / length
+            conv0 = _convex(poly[k - 1], p0, p1)
+            conv1 = _convex(p0, p1, poly[(k + 2) % n])
+            out.append((p0, e, np.array([-e[1], e[0]]), length, conv0, conv1))
+        return out
+
+
+def _convex(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> bool:
+    return float((b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])) > 0
+
+
+def _quarter_of(normal: np.ndarray) -> int:
+    """Quarter turns that point an asset's front (+y) along ``normal``."""
+    return {(0, 1): 0, (-1, 0): 1, (0, -1): 2, (1, 0): 3}[(int(round(normal[0])), int(round(normal[1])))]
+
+
+class RoomReach:
+    """A small raster of one room: can the agent still walk between the doors and reach
+    every piece?"""
+
+    def __init__(self, space: RoomSpace, resolution: float = 0.05):
+        bb = space.bbox
+        pad = 0.1
+        self.res = resolution
+        # Cells on multiples of the resolution: the same cells as the house's navigation grid
+        # (whose origin is the house corner minus a margin), so borderline gaps agree.
+        x0 = np.floor((bb[0] - pad) / resolution + 1e-6) * resolution
+        y0 = np.floor((bb[1] - pad) / resolution + 1e-6) * resolution
+        shape = (int(np.ceil((bb[3] + pad - y0) / resolution)), int(np.ceil((bb[2] + pad - x0) / resolution)))
+        self.raster = _Raster((x0, y0), resolution, shape)
+        self.floor = np.zeros(shape, dtype=bool)
+        self.raster.fill_polygon(self.floor, space.inner)
+        #: Outside the room's inner outline (what blocks reach in an L-shaped room).
+        self.outside = ~self.floor
+        self.concave = len(space.inner) > 4
+        leaves = np.zeros(shape, dtype=bool)
+        for hinge, tip in space.leaves:
+            # The same slab the navigation grid uses for an open leaf.
+            d = tip - hinge
+            half = leaf_half_thickness(resolution)
+            self.raster.fill_oriented_rect(leaves, hinge, d / np.hypot(*d), (0.0, float(np.hypot(*d))), (-half, half))
+        self.floor &= ~leaves
+        self.occupied = np.zeros(shape, dtype=bool)
+        self.doors = [self._cells(r) for r in space.mouths]
+
+    def _cells(self, rect: np.ndarray):
+        return self.raster.window(rect[0] + EPS, rect[1] + EPS, rect[2] - EPS, rect[3] - EPS)
+
+    def add(self, rect: np.ndarray) -> None:
+        """Mark a footprint: cells whose centre lies inside it."""
+        win = self._cells(rect)
+        if win is None:
+            return
+        sl, xs, ys = win
+        self.occupied[sl] |= (xs > rect[0]) & (xs < rect[2]) & (ys > rect[1]) & (ys < rect[3])
+
+    def ok(self, targets: list[np.ndarray]) -> bool:
+        """Doors linked by walkable floor, and each target rectangle within reach of it."""
+        walk = walkable_from_free(self.floor & ~self.occupied, AGENT_RADIUS + CHECK_MARGIN, self.res)
+        labels, n = ndimage.label(walk)
+        if n == 0:
+            return False
+        common: set[int] | None = None
+        for win in self.doors:
+            if win is None:
+                continue
+            here = labels[win[0]]
+            found = set(np.unique(here[here > 0]).tolist())
+            common = found if common is None else common & found
+        if common is None:  # no door in this room: keep the largest walkable area
+            common = {int(np.argmax(np.bincount(labels[labels > 0])))}
+        if not common:
+            return False
+        main = np.isin(labels, sorted(common))
+        # No sizeable walkable pocket cut off from the doors (half a square metre).
+        sizes = np.bincount(labels[~main & (labels > 0)].ravel(), minlength=n + 1)
+        if (sizes[1:] * self.res ** 2 > POCKET_AREA).any():
+            return False
+        return all(self._reachable(main, r) for r in targets)
+
+    def _reachable(self, main: np.ndarray, rect: np.ndarray) -> bool:
+        win = self.raster.window(rect[0] - REACH, rect[1] - REACH, rect[2] + REACH, rect[3] + REACH)
+        if win is None:
+            return False
+        sl, xs, ys = win
+        nx = np.clip(xs, rect[0], rect[2])
+        ny = np.clip(ys, rect[1], rect[3])
+        near = main[sl] & ((nx - xs) ** 2 + (ny - ys) ** 2 <= REACH * REACH)
+        if not near.any() or not self.concave:
+            return bool(near.any())
+        # An L-shaped room: the reach must not pass behind its inner corner.
+        rr, cc = np.nonzero(near)
+        px, py = xs[0, cc], ys[rr, 0]
+        qx, qy = np.broadcast_to(nx, near.shape)[rr, cc], np.broadcast_to(ny, near.shape)[rr, cc]
+        t = np.linspace(0.0, 1.0, 24)[None, :]
+        sx = px[:, None] + (qx - px)[:, None] * t * 0.97
+        sy = py[:, None] + (qy - py)[:, None] * t * 0.97
+        col = np.clip(((sx - self.raster.x0) / self.res).astype(np.int64), 0, self.outside.shape[1] - 1)
+        row = np.clip(((sy - self.raster.y0) / self.res).astype(np.int64), 0, self.outside.shape[0] - 1)
+        return bool((~self.outside[row, col].any(axis=1)).any())
+
+
+def door_mouth(square: np.ndarray, width: float) -> np.ndarray:
+    """The strip just inside a door (AABB): the cells the agent's centre crosses right
+    after the opening, away from the jambs (and so from a leaf standing at a jamb)."""
+    a, b, _, d = square
+    u = (b - a) / np.hypot(*(b - a))
+    side = (d - a) / np.hypot(*(d - a))
+    inset = min(AGENT_RADIUS, width / 2 - 0.05)
+    p0 = a + u * inset + side * AGENT_RADIUS
+    p1 = b - u * inset + side * (AGENT_RADIUS + 0.25)
+    return np.array([min(p0[0], p1[0]), min(p0[1], p1[1]), max(p0[0], p1[0]), max(p0[1], p1[1])])
+
+
+def room_spaces(fp: FloorPlan, rng: np.random.Generator) -> list[RoomSpace]:
+    """The furnisher's view of each room: inner outline, door squares, window zones."""
+    spaces = []
+    walls = {w.id: w for w in fp.walls}
+    for i, poly in enumerate(fp.polygons):
+        p = np.asarray(poly, dtype=np.float64)
+        inner = inset_polygon(p, WALL_THICKNESS / 2)
+        keep, leaves, mouths = [], [], []
+        for door in fp.doors:
+            if fp.room_ids[i] not in door.connects:
+                continue
+            if door.leaf and door_passable(door):
+                hinge, tip = door_leaf_open_segment(walls[door.wall], door)
+                if points_in_polygon(((hinge + tip) / 2)[None, :], p)[0]:
+                    leaves.append((hinge, tip))
+            depth = door.width if door.leaf else min(door.width, 0.9)
+            for sq in door_keepout_squares(walls[door.wall], door, depth):
+                centre = sq.mean(axis=0)
+                if points_in_polygon(centre[None, :], p)[0]:
+                    keep.append(np.concatenate([sq.min(axis=0), sq.max(axis=0)]))
+                    mouths.append(door_mouth(sq, door.width))
+        wins = []
+        for win in fp.windows:
+            wall = walls[win.wall]
+            if wall.rooms[0] != fp.room_ids[i]:
+                continue
+            s, e = np.asarray(wall.start), np.asarray(wall.end)
+            u = (e - s) / wall.length
+            n = np.array([-u[1], u[0]])  # outer walls have their room on the left
+            a = s + u * (win.offset - win.width / 2) + n * (wall.thickness / 2)
+            b = s + u * (win.offset + win.width / 2) + n * (wall.thickness / 2 + WINDOW_DEPTH)
+            wins.append([min(a[0], b[0]), min(a[1], b[1]), max(a[0], b[0]), max(a[1], b[1]), win.sill])
+        space = RoomSpace(i, fp.types[i], inner, np.asarray(keep).reshape(-1, 4),
+                          np.asarray(wins, dtype=np.float64).reshape(-1, 5), round(float(rng.uniform(0.1, 0.3)), 3),
+                          leaves, np.asarray(mouths).reshape(-1, 4))
+        space.reach = RoomReach(space)
+        spaces.append(space)
+    return spaces
+
+
+# ---------------------------------------------------------------------------------------
+# The furnisher
+
+
+class Furnisher:
+    """Places the furniture of one house attempt. ``pieces`` grows as pieces are accepted;
+    an index into it is a piece's identity until ids are assigned."""
+
+    def __init__(self, fp: FloorPlan, catalog: Catalog, rng: np.random.Generator,
+                 caps: dict[str, int] | None = None):
+        self.fp = fp
+        self.catalog = catalog
+        self.rng = rng
+        self.spaces = room_spaces(fp, rng)
+        self.pieces: list[Placed] = []
+        self.caps = dict(caps or {})  # category -> how many more may be placed
+        self._group = 0
+
+    # -- choosing assets ----------------------------------------------------------------
+    def available(self, category: str) -> bool:
+        return category in self.catalog.by_category and self.caps.get(category, 1) > 0
+
+    def pick(self, category: str) -> tuple[str, int, AssetModel]:
+        ids = self.catalog.by_category[category]
+        asset = ids[int(self.rng.integers(len(ids)))]
+        variant = int(self.rng.integers(1000))
+        return asset, variant, registry.make(asset, variant)
+
+    def count(self, category: str) -> int:
+        return sum(p.category == category for p in self.pieces)
+
+    # -- candidate poses ----------------------------------------------------------------
+    def anchor_poses(self, space: RoomSpace, model: AssetModel, n_random: int = 6) -> np.ndarray:
+        """Candidate poses (N, 4): x, y, quarter turns, preference. Poses of the asset's own
+        ``placement`` come first (preference 10); wall poses are the fallback."""
+        placement = model.placement if model.placement in ("wall", "corner", "middle") else "wall"
+        local = local_rect(model)
+        poses = []
+        for p0, e, n, length, conv0, conv1 in space.edges():
+            q = _quarter_of(n)
+            s_min, s_max = WALL_GAP - local[0], length - WALL_GAP - local[2]
+            if s_max < s_min:
+                continue
+            ends = [s for s, convex in ((s_min, conv0), (s_max, conv1)) if convex]
+            spots = [(s, 10.0 if placement == "corner" else 0.0) for s in ends]
+            spots += [(s, 10.0 if placement == "wall" else 0.0)
+                      for s in [0.5 * (s_min + s_max), *self.rng.uniform(s_min, s_max, n_random)]]
+            for s, pref in spots:
+                o = p0 + e * s + n * (WALL_GAP - local[1])
+                poses.append((o[0], o[1], q, pref))
+        if placement == "middle":
+            bb = space.bbox
+            pts = np.column_stack([self.rng.uniform(bb[0], bb[2], 40), self.rng.uniform(bb[1], bb[3], 40)])
+            qs = self.rng.integers(0, 4, 40)
+            poses += [(x, y, q, 10.0) for (x, y), q in zip(pts, qs)]
+        return np.asarray(poses, dtype=np.float64).reshape(-1, 4)
+
+    # -- checking -----------------------------------------------------------------------
+    def valid(self, space: RoomSpace, rects: np.ndarray, fronts: np.ndarray, tall: np.ndarray,
+              group_members: int) -> np.ndarray:
+        """rects/fronts: (C, M, 4) per candidate and member; tall: (M,) member heights.
+        Returns (C,) whether every member of the candidate group fits."""
+        c, m = rects.shape[:2]
+        flat = rects.reshape(-1, 4)
+        ok = rects_in_polygon(flat, space.inner)
+        fr = fronts.reshape(-1, 4)
+        has_front = fr[:, 2] > fr[:, 0]
+        ok &= ~has_front | rects_in_polygon(np.where(has_front[:, None], fr, flat), space.inner)
+        others = [self.pieces[k] for k in space.pieces if self.pieces[k].on_floor]
+        if others:
+            feet = np.array([p.rect for p in others])
+            ok &= ~overlaps(flat, expand(feet, space.margin)).any(axis=1)
+            ofronts = np.array([p.front for p in others if p.front is not None]).reshape(-1, 4)
+            ok &= ~overlaps(flat, ofronts).any(axis=1)
+            ok &= ~(has_front & overlaps(fr, feet).any(axis=1))
+        ok &= ~overlaps(flat, space.keepouts).any(axis=1)
+        if len(space.windows):
+            heights = np.tile(tall, c)
+            hit = overlaps(flat, space.windows[:, :4]) & (heights[:, None] > space.windows[None, :, 4])
+            ok &= ~hit.any(axis=1)
+        return ok.reshape(c, m).all(axis=1)
+
+    # -- placing ------------------------------------------------------------------------
+    def place(self, space: RoomSpace, category: str, *, group: str | None = None,
+              required: bool = False, tries: int = 3) -> bool:
+        """Place one piece (with its group) in a room; False if it does not fit."""
+        for _ in range(tries):
+            asset, variant, model = self.pick(category)
+            variants = self.group_variants(group, model) if group else [[]]
+            poses = self.anchor_poses(space, model)
+            if len(poses) == 0:
+                continue
+            for members in variants:
+                if self._place_group(space, category, asset, variant, model, members, poses, group, required):
+                    return True
+        return False
+
+    def _place_group(self, space, category, asset, variant, model, members, poses, group, required) -> bool:
+        allm = [Member(category, asset, variant, model, 0.0, 0.0, 0)] + members
+        xs, ys, qs, pref = poses[:, 0], poses[:, 1], poses[:, 2].astype(np.int64), poses[:, 3]
+        rects, fronts = self._member_rects(allm, xs, ys, qs)
+        tall = np.array([m.model.size[2] for m in allm])
+        ok = self.valid(space, rects, fronts, tall, len(allm))
+        if not ok.any():
+            return False
+        order = self._rank(space, model, rects[:, 0], qs, pref, ok)
+        for c in order[:4]:
+            placed = self._commit(space, allm, xs[c], ys[c], int(qs[c]), rects[c], fronts[c], required)
+            if self._room_ok(space):
+                if group == "tv":
+                    self.put_on_support(placed[0], "tv")
+                return True
+            self._rollback(space, len(placed))
+        return False
+
+    def _member_rects(self, members: list[Member], xs, ys, qs):
+        c = len(xs)
+        rects = np.zeros((c, len(members), 4))
+        fronts = np.zeros((c, len(members), 4))
+        for j, m in enumerate(members):
+            local = local_rect(m.model)
+            off = np.einsum("cij,j->ci", _ROT[qs % 4], np.array([m.dx, m.dy]))
+            ox, oy = xs + off[:, 0], ys + off[:, 1]
+            mq = (qs + m.dq) % 4
+            table = np.array([turned_rect(local, k) for k in range(4)])
+            fz = float(m.model.front_clearance)
+            ftable = np.array([turned_rect(np.array([local[0], local[3], local[2], local[3] + fz]), k)
+                               for k in range(4)])
+            base = np.column_stack([ox, oy, ox, oy])
+            rects[:, j] = base + table[mq]
+            fronts[:, j] = base + ftable[mq] if fz > 0 else 0.0
+        return rects, fronts
+
+    def _rank(self, space: RoomSpace, model: AssetModel, rects: np.ndarray, qs: np.ndarray, pref: np.ndarray,
+              ok: np.ndarray) -> list[int]:
+        """Valid candidates, best first: the asset's own placement kind before the
+        fallback, then at random, except that middle pieces prefer open floor and a tv
+        stand prefers to face the sofa."""
+        score = self.rng.random(len(qs)) + pref
+        if model.placement == "middle":
+            score += 4.0 * self._openness(space, rects)
+        if model.category == "tv_stand":
+            sofas = [self.pieces[k] for k in space.pieces if self.pieces[k].category == "sofa"]
+            if sofas:
+                s = sofas[0]
+                facing = qs == (s.q + 2) % 4
+                cx = (rects[:, 0] + rects[:, 2]) / 2 - (s.rect[0] + s.rect[2]) / 2
+                cy = (rects[:, 1] + rects[:, 3]) / 2 - (s.rect[1] + s.rect[3]) / 2
+                lateral = np.where(s.q % 2 == 0, np.abs(cx), np.abs(cy))
+                score += 3.0 * facing - lateral
+        idx = np.nonzero(ok)[0]
+        return idx[np.argsort(-score[idx], kind="stable")].tolist()
+
+    def _openness(self, space: RoomSpace, rects: np.ndarray) -> np.ndarray:
+        """Distance (capped at 1.5 m) from each rectangle to the nearest wall or piece."""
+        bb = space.bbox
+        d = np.minimum.reduce([rects[:, 0] - bb[0], rects[:, 1] - bb[1], bb[2] - rects[:, 2], bb[3] - rects[:, 3]])
+        for k in space.pieces:
+            r = self.pieces[k].rect
+            gx = np.maximum(np.maximum(r[0] - rects[:, 2], rects[:, 0] - r[2]), 0.0)
+            gy = np.maximum(np.maximum(r[1] - rects[:, 3], rects[:, 1] - r[3]), 0.0)
+            d = np.minimum(d, np.hypot(gx, gy))
+        return np.minimum(d, 1.5)
+
+    def _commit(self, space, members, x, y, q, rects, fronts, required) -> list[int]:
+        self._group += 1
+        out = []
+        for j, m in enumerate(members):
+            off = _ROT[q] @ np.array([m.dx, m.dy])
+            fz = m.model.front_clearance
+            piece = Placed(m.category, m.asset, m.variant, float(x + off[0]), float(y + off[1]), (q + m.dq) % 4,
+                           m.model, space.index, self._group, rects[j].copy(),
+                           fronts[j].copy() if fz > 0 else None, required=required and j == 0)
+            self.pieces.append(piece)
+            space.pieces.append(len(self.pieces) - 1)
+            space.reach.add(piece.rect)
+            if m.category in self.caps:
+                self.caps[m.category] -= 1
+            out.append(len(self.pieces) - 1)
+        return out
+
+    def _rollback(self, space: RoomSpace, n: int) -> None:
+        for _ in range(n):
+            piece = self.pieces.pop()
+            space.pieces.pop()
+            if piece.category in self.caps:
+                self.caps[piece.category] += 1
+        space.reach.occupied[:] = False
+        for k in space.pieces:
+            if self.pieces[k].on_floor:
+                space.reach.add(self.pieces[k].rect)
+
+    def _room_ok(self, space: RoomSpace) -> bool:
+        targets = [self.pieces[k].rect for k in space.pieces if self.pieces[k].on_floor]
+        return space.reach.ok(targets)
+
+    # -- groups -------------------------------------------------------------------------
+    def group_variants(self, group: str, anchor: AssetModel) -> list[list[Member]]:
+        """Member layouts for a group, fullest first (the last one is the anchor alone)."""
+        a = local_rect(anchor)
+        build = {"bed": self._bed, "sofa": self._sofa, "desk": self._desk, "dining": self._dining}.get(group)
+        variants = build(a) if build else []
+        variants = [v for v in variants if self._within_caps(v)]
+        return variants + [[]]
+
+    def _within_caps(self, members: list[Member]) -> bool:
+        need: dict[str, int] = {}
+        for m in members:
+            need[m.category] = need.get(m.category, 0) + 1
+        return all(self.caps.get(c, n) >= n for c, n in need.items())
+
+    def _bed(self, a: np.ndarray) -> list[list[Member]]:
+        if not self.available("nightstand"):
+            return []
+        asset, variant, model = self.pick("nightstand")
+        m = local_rect(model)
+        y = a[1] - m[1]  # backs aligned at the wall
+        left = Member("nightstand", asset, variant, model, a[0] - GROUP_GAP - m[2], y, 0)
+        right = Member("nightstand", asset, variant, model, a[2] + GROUP_GAP - m[0], y, 0)
+        return [[left, right], [right], [left]]
+
+    def _sofa(self, a: np.ndarray) -> list[list[Member]]:
+        if not self.available("coffee_table") or self.rng.random() > 0.85:
+            return []
+        asset, variant, model = self.pick("coffee_table")
+        m = local_rect(model)
+        gap = float(self.rng.uniform(0.4, 0.5))
+        return [[Member("coffee_table", asset, variant, model, -(m[0] + m[2]) / 2, a[3] + gap - m[1], 0)]]
+
+    def _desk(self, a: np.ndarray) -> list[list[Member]]:
+        if not self.available("chair"):
+            return []
+        asset, variant, model = self.pick("chair")
+        m = local_rect(model)
+        # Turned half a turn: the chair's front faces the desk.
+        return [[Member("chair", asset, variant, model, (m[0] + m[2]) / 2, a[3] + GROUP_GAP + m[3], 2)]]
+
+    def _dining(self, a: np.ndarray) -> list[list[Member]]:
+        """Chairs along the table's long sides (and sometimes its ends), facing it."""
+        if not self.available("chair"):
+            return []
+        asset, variant, model = self.pick("chair")
+        m = local_rect(model)
+        cw = m[2] - m[0]
+        long_x = (a[2] - a[0]) >= (a[3] - a[1])
+        side_len = (a[2] - a[0]) if long_x else (a[3] - a[1])
+        n_side = int(max(1, min(3, (side_len + 0.1) // (cw + 0.15))))
+
+        def chair(side: int, t: float) -> Member:
+            # side: 0 +y, 1 -x, 2 -y, 3 +x in the table frame; the chair faces the table.
+            cx = -(m[0] + m[2]) / 2  # centre the chair's width on its slot
+            depth = GROUP_GAP + m[3]
+            if side == 0:
+                return Member("chair", asset, variant, model, t - cx, a[3] + depth, 2)
+            if side == 2:
+                return Member("chair", asset, variant, model, t + cx, a[1] - depth, 0)
+            if side == 1:
+                return Member("chair", asset, variant, model, a[0] - depth, t - cx, 3)
+            return Member("chair", asset, variant, model, a[2] + depth, t + cx, 1)
+
+        def row(side: int, n: int) -> list[Member]:
+            lo, hi = (a[0], a[2]) if side in (0, 2) else (a[1], a[3])
+            slots = [lo + (hi - lo) * (k + 0.5) / n for k in range(n)]
+            return [chair(side, t) for t in slots]
+
+        sides = (0, 2) if long_x else (1, 3)
+        ends = (1, 3) if long_x else (0, 2)
+        full = row(sides[0], n_side) + row(sides[1], n_side)
+        variants = []
+        if side_len > 1.3 and self.rng.random() < 0.5:
+            variants.append(full + row(ends[0], 1) + row(ends[1], 1))
+        variants.append(full)
+        if n_side > 1:
+            variants.append(row(sides[0], 1) + row(sides[1], 1))
+        variants.append(row(sides[0], 1))
+        return variants
+
+    def place_anywhere(self, category: str) -> bool:
+        """One more piece of ``category`` in any room that allows it (a surface piece goes
+        on a free support, or on a new one)."""
+        if category in SUPPORTS:
+            for k in range(len(self.pieces)):
+                p = self.pieces[k]
+                taken = any(q.support == k for q in self.pieces)
+                if p.category in SUPPORTS[category] and not taken and self.put_on_support(k, category):
+                    return True
+            supports = [c for c in SUPPORTS[category] if self.available(c)]
+            for support in supports:
+                before = self.count(category)
+                if self.place_anywhere(support) and (
+                        self.count(category) > before or self.put_on_support(len(self.pieces) - 1, category)):
+                    return True
+            return False
+        types = allowed_room_types(self.catalog, category)
+        spaces = [s for s in self.spaces if s.rtype in types]
+        for k in self.rng.permutation(len(spaces)).tolist():
+            if self.place(spaces[k], category, group=DEFAULT_GROUP.get(category), tries=4):
+                return True
+        return False
+
+    # -- surface furniture (a tv on its stand) --------------------------------------------
+    def put_on_support(self, support: int, category: str, tries: int = 3) -> bool:
+        """Stand a surface piece (a tv) on the top receptacle of piece ``support``."""
+        if not self.available(category):
+            return False
+        base = self.pieces[support]
+        recs = [(k, r) for k, r in enumerate(base.model.receptacles) if r.link == "base"]
+        if not recs:
+            return False
+        k, rec = max(recs, key=lambda kr: (kr[1].height, kr[0]))
+        for _ in range(tries):
+            asset, variant, model = self.pick(category)
+            local = local_rect(model)
+            if model.size[2] > rec.clearance + EPS:
+                continue
+            pos = fit_centered(rec, local)
+            if pos is None:
+                continue
+            off = _ROT[base.q] @ pos
+            rect = np.array([base.x + off[0], base.y + off[1]] * 2) + turned_rect(local, base.q)
+            space = self.spaces[base.room]
+            piece = Placed(category, asset, variant, float(base.x + off[0]), float(base.y + off[1]), base.q, model,
+                           base.room, base.group, rect, None, z=base.z + rec.height, support=support, receptacle=k)
+            self.pieces.append(piece)
+            space.pieces.append(len(self.pieces) - 1)
+            if category in self.caps:
+                self.caps[category] -= 1
+            return True
+        return False
+
+
+def fit_centered(rec: Receptacle, local: np.ndarray) -> np.ndarray | None:
+    """Where to put an object's origin so its footprint is centred on a receptacle and
+    backed toward its rear edge; None if it does not fit."""
+    half = np.asarray(rec.half_size)
+    size = np.array([local[2] - local[0], local[3] - local[1]])
+    if (size > 2 * half + 1e-9).any():
+        return None
+    cx = rec.center[0] - (local[0] + local[2]) / 2
+    y_back = rec.center[1] - half[1] - local[1]
+    y_centre = rec.center[1] - (local[1] + local[3]) / 2
+    return np.array([cx, (y_back + y_centre) / 2])
+
+
+# ---------------------------------------------------------------------------------------
+# A whole house
+
+
+def room_label(fp: FloorPlan, i: int) -> str:
+    from legent_gym.world.generation.roomtypes import ROOM_TYPES
+
+    return ROOM_TYPES[fp.types[i]].name
+
+
+def extra_rules(catalog: Catalog, rtype: str) -> list[Rule]:
+    """Optional rules for registered furniture categories the tables do not mention but
+    whose ``rooms`` annotation names this room type (user assets join in)."""
+    known = {r.category for prio, opt in ROOM_FURNITURE.values() for r in prio + opt}
+    known |= {c for members in GROUP_MEMBERS.values() for c in members}
+    out = []
+    for cat in catalog.categories:
+        if cat in known or not catalog.is_furniture(cat):
+            continue
+        model = catalog.describe(cat)
+        if model.placement != "surface" and rtype in model.rooms:
+            out.append(Rule(cat, EXTRA_CATEGORY_P))
+    return out
+
+
+def furnish_house(fp: FloorPlan, catalog: Catalog, rng: np.random.Generator, *,
+                  need: dict[str, int] | None = None, caps: dict[str, int] | None = None) -> Furnisher:
+    """Furnish every room: priority pieces, then what ``need`` asks for (category ->
+    at least this many), then optional pieces. ``caps`` bounds categories (exact counts).
+
+    Raises :class:`PlacementFailed` when a priority or needed piece does not fit."""
+    f = Furnisher(fp, catalog, rng, caps)
+    for space in f.spaces:
+        for rule in ROOM_FURNITURE.get(space.rtype, ([], []))[0]:
+            if f.available(rule.category) and not f.place(space, rule.category, group=rule.group,
+                                                          required=True, tries=4):
+                raise PlacementFailed(f"no room for a {rule.category} in the {room_label(fp, space.index)}")
+    for cat in sorted(need or {}):
+        while f.count(cat) < (need or {})[cat]:
+            if not f.place_anywhere(cat):
+                raise PlacementFailed(f"placed {f.count(cat)} of {need[cat]}: no more room for a {cat}", cat)
+    for space in f.spaces:
+        rules = ROOM_FURNITURE.get(space.rtype, ([], []))[1] + extra_rules(catalog, space.rtype)
+        for rule in rules:
+            if not f.available(rule.category) or rng.random() >= rule.p:
+                continue
+            for _ in range(int(rng.integers(rule.count[0], rule.count[1] + 1))):
+                if f.available(rule.category):
+                    f.place(space, rule.category, group=rule.group, tries=2)
+    return f

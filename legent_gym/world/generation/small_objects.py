@@ -1,0 +1,225 @@
+"""Small objects on receptacle surfaces: required ones first, exact counts, then a random
+sprinkling at the requested density (at most ``max_per_surface`` per surface).
+
+A surface is one receptacle of a placed piece (only receptacles on the ``base`` link: a
+drawer's inside moves with the drawer). Objects lie fully inside the receptacle's
+rectangle, turned by the furniture's yaw plus a small random yaw, without overlapping each
+other or a piece standing there (a tv), and no taller than the receptacle's clearance.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from legent_gym.world.assets import registry
+from legent_gym.world.assets.model import Receptacle
+from legent_gym.world.generation.conditions import Catalog
+from legent_gym.world.generation.furnish import (
+    _ROT,
+    Placed,
+    PlacementFailed,
+    local_rect,
+    turned_rect,
+)
+
+#: Furniture category -> small-object categories that plausibly rest on it.
+PLAUSIBLE: dict[str, tuple[str, ...]] = {
+    "kitchen_counter": ("apple", "orange", "banana", "pear", "tomato", "mug", "cup", "bowl", "plate",
+                        "bottle", "cola_can"),
+    "dining_table": ("plate", "bowl", "cup", "mug", "apple", "orange", "banana", "pear", "vase", "bottle",
+                     "cola_can"),
+    "coffee_table": ("remote", "book", "mug", "cup", "vase", "cola_can", "apple", "orange", "banana",
+                     "laptop", "phone", "bowl"),
+    "side_table": ("book", "remote", "phone", "mug", "vase", "cup", "cola_can"),
+    "desk": ("laptop", "book", "mug", "phone", "cup", "cola_can", "bottle"),
+    "nightstand": ("book", "phone", "cup", "remote", "bottle"),
+    "dresser": ("vase", "book", "toy", "remote", "phone", "bottle"),
+    "bookshelf": ("book", "vase", "toy"),
+    "tv_stand": ("remote", "vase", "book", "toy"),
+    "sofa": ("remote", "phone", "toy", "book", "orange", "apple", "banana", "cola_can"),
+    "armchair": ("book", "phone", "remote", "toy"),
+    "chair": ("book", "toy", "phone"),
+    "bed": ("book", "toy", "phone", "laptop"),
+    "sink": ("bottle", "cup"),
+    "bathtub": ("bottle", "toy"),
+    "fridge": ("bottle", "bowl"),
+}
+#: Largest random yaw added to the furniture's, degrees.
+MAX_JITTER_YAW = 15.0
+#: Gap between objects on one surface, metres.
+OBJECT_GAP = 0.02
+
+
+@dataclass
+class Surface:
+    piece: int
+    index: int  #: receptacle index in the piece's model
+    rec: Receptacle
+    occupied: list[np.ndarray] = field(default_factory=list)  #: rects in the piece's frame
+    count: int = 0  #: small objects on it
+
+
+@dataclass
+class SmallPlaced:
+    category: str
+    asset: str
+    variant: int
+    x: float
+    y: float
+    z: float
+    yaw: float
+    support: int
+    receptacle: int
+
+
+def surfaces_of(pieces: list[Placed]) -> list[Surface]:
+    """Every base-link receptacle of every piece, with what already stands on it."""
+    out = []
+    for i, p in enumerate(pieces):
+        for k, rec in enumerate(p.model.receptacles):
+            if rec.link != "base":
+                continue
+            s = Surface(i, k, rec)
+            for q in pieces:
+                if q.support == i and q.receptacle == k:
+                    s.occupied.append(_in_frame(p, q))
+            out.append(s)
+    return out
+
+
+def _in_frame(base: Placed, item: Placed) -> np.ndarray:
+    """Footprint of ``item`` in the frame of ``base`` (both quarter-turned)."""
+    d = _ROT[(-base.q) % 4] @ np.array([item.x - base.x, item.y - base.y])
+    return np.concatenate([d, d]) + turned_rect(local_rect(item.model), (item.q - base.q) % 4)
+
+
+def receptacle_corners(piece: Placed, rec: Receptacle) -> np.ndarray:
+    """World corners (4, 2) of a receptacle rectangle."""
+    c, h = np.asarray(rec.center), np.asarray(rec.half_size)
+    pts = np.array([c - h, [c[0] + h[0], c[1] - h[1]], c + h, [c[0] - h[0], c[1] + h[1]]])
+    return pts @ _ROT[piece.q].T + np.array([piece.x, piece.y])
+
+
+class SmallObjectPlacer:
+    def __init__(self, pieces: list[Placed], catalog: Catalog, rng: np.random.Generator, *,
+                 max_per_surface: int, reachable: Callable[[Placed, Receptacle], bool]):
+        self.pieces = pieces
+        self.catalog = catalog
+        self.rng = rng
+        self.max = max_per_surface
+        self.surfaces = [s for s in surfaces_of(pieces) if reachable(pieces[s.piece], s.rec)]
+        self.placed: list[SmallPlaced] = []
+
+    def count(self, category: str) -> int:
+        return sum(p.category == category for p in self.placed)
+
+    def put(self, surface: Surface, category: str, tries: int = 3) -> bool:
+        """Put one object of ``category`` on a surface; False if it does not fit."""
+        if surface.count >= self.max or category not in self.catalog.by_category:
+            return False
+        ids = self.catalog.by_category[category]
+        for _ in range(tries):
+            asset = ids[int(self.rng.integers(len(ids)))]
+            variant = int(self.rng.integers(1000))
+            model = registry.make(asset, variant)
+            if model.size[2] > surface.rec.clearance:
+                continue
+            jitter = float(self.rng.uniform(-MAX_JITTER_YAW, MAX_JITTER_YAW))
+            pos = self._spot(surface, local_rect(model), jitter)
+            if pos is None:
+                continue
+            self._commit(surface, category, asset, variant, pos, jitter, local_rect(model))
+            return True
+        return False
+
+    def _spot(self, surface: Surface, local: np.ndarray, jitter: float, samples: int = 8) -> np.ndarray | None:
+        """A free origin (in the piece's frame) for an object turned by ``jitter`` degrees."""
+        rot = _yaw_matrix(jitter)
+        corners = np.array([[local[0], local[1]], [local[2], local[1]], [local[2], local[3]], [local[0], local[3]]])
+        turned = corners @ rot.T
+        lo, hi = turned.min(axis=0), turned.max(axis=0)
+        c, h = np.asarray(surface.rec.center), np.asarray(surface.rec.half_size)
+        margin = 0.005
+        pmin, pmax = c - h + margin - lo, c + h - margin - hi
+        if (pmax < pmin).any():
+            return None
+        for _ in range(samples):
+            p = self.rng.uniform(pmin, pmax)
+            box = np.concatenate([p + lo - OBJECT_GAP, p + hi + OBJECT_GAP])
+            if not any(_boxes_overlap(box, o) for o in surface.occupied):
+                return p
+        return None
+
+    def _commit(self, surface, category, asset, variant, pos, jitter, local) -> None:
+        base = self.pieces[surface.piece]
+        world = _ROT[base.q] @ pos + np.array([base.x, base.y])
+        yaw = (base.yaw_deg + jitter) % 360.0
+        self.placed.append(SmallPlaced(category, asset, variant, float(world[0]), float(world[1]),
+                                       float(base.z + surface.rec.height), yaw, surface.piece, surface.index))
+        turned = np.array([[local[0], local[1]], [local[2], local[3]], [local[0], local[3]], [local[2], local[1]]])
+        turned = turned @ _yaw_matrix(jitter).T
+        surface.occupied.append(np.concatenate([pos + turned.min(axis=0), pos + turned.max(axis=0)]))
+        surface.count += 1
+
+    def put_on_category(self, category: str, receptacles: list[str]) -> bool:
+        """Put one object on any reachable surface of the given furniture categories."""
+        cands = [s for s in self.surfaces if self.pieces[s.piece].category in receptacles]
+        return any(self.put(cands[k], category) for k in self.rng.permutation(len(cands)).tolist())
+
+    def put_anywhere(self, category: str) -> bool:
+        """Put one object on a plausible surface if possible, else on any surface."""
+        plausible = [s for s in self.surfaces if category in PLAUSIBLE.get(self.pieces[s.piece].category, ())]
+        rest = [s for s in self.surfaces if s not in plausible]
+        for group in (plausible, rest):
+            for k in self.rng.permutation(len(group)).tolist():
+                if self.put(group[k], category):
+                    return True
+        return False
+
+    def sprinkle(self, density: float, exclude: set[str]) -> None:
+        """Random objects: per surface a binomial count with mean ``density``."""
+        small = [c for c in self.catalog.categories if self.catalog.is_small(c) and c not in exclude]
+        if not small or self.max == 0:
+            return
+        p = min(1.0, density / self.max)
+        for s in self.surfaces:
+            want = int(self.rng.binomial(self.max, p)) - s.count
+            options = [c for c in PLAUSIBLE.get(self.pieces[s.piece].category, tuple(small)) if c in small] or small
+            for _ in range(max(0, want)):
+                self.put(s, options[int(self.rng.integers(len(options)))], tries=2)
+
+
+def _yaw_matrix(deg: float) -> np.ndarray:
+    a = np.radians(deg)
+    return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+
+
+def _boxes_overlap(a: np.ndarray, b: np.ndarray) -> bool:
+    return bool(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3])
+
+
+def place_small_objects(pieces: list[Placed], catalog: Catalog, rng: np.random.Generator, *,
+                        require_on: list[tuple[str, list[str], str]], counts: dict[str, int],
+                        density: float, max_per_surface: int,
+                        reachable: Callable[[Placed, Receptacle], bool]) -> list[SmallPlaced]:
+    """All small objects of a house. ``require_on``: (object category, receptacle
+    categories, quoted condition text for errors); ``counts``: exact count per small category.
+
+    Raises :class:`PlacementFailed` with the condition's label when one cannot be met."""
+    placer = SmallObjectPlacer(pieces, catalog, rng, max_per_surface=max_per_surface, reachable=reachable)
+    for obj, recs, label in require_on:
+        if not placer.put_on_category(obj, recs):
+            have = [s for s in placer.surfaces if pieces[s.piece].category in recs]
+            why = (f"no reachable {' or '.join(recs)} surface in this house" if not have
+                   else f"no {' or '.join(recs)} surface with room for it (at most {max_per_surface} per surface)")
+            raise PlacementFailed(f"cannot place {label}: {why}")
+    for cat in sorted(counts):
+        while placer.count(cat) < counts[cat]:
+            if not placer.put_anywhere(cat):
+                raise PlacementFailed(f"cannot place {counts[cat]} {cat!r} (object_counts): "
+                                      f"found room for {placer.count(cat)}")
+    placer.sprinkle(density, exclude=set(counts))
+    return placer.placed

@@ -1,0 +1,283 @@
+"""Is a house usable? :func:`check_house` lists what is wrong with a scene (generated or
+written by hand); an empty list means the house passes.
+
+Checked: rooms linked through doors; agent and user spawns on walkable floor and connected;
+every room, every floor piece of furniture and every receptacle holding objects reachable
+from the agent spawn (a standing point within reach, no wall between); nothing
+interpenetrating (furniture footprints pairwise, furniture against walls, objects sharing a
+surface); small objects inside a receptacle of what they rest on; the squares in front of
+doors free of furniture; furniture inside the house.
+"""
+
+from __future__ import annotations
+
+from itertools import combinations
+
+import numpy as np
+
+from legent_gym.world.assets import registry
+from legent_gym.world.navigation import (
+    NavGrid,
+    door_keepout_squares,
+    is_floor_furniture,
+    object_footprint,
+    rect_corners,
+    wall_frame,
+    wall_solid_spans,
+    yaw_of,
+)
+from legent_gym.world.scene import ObjectInstance, Scene
+
+#: Penetration (metres) tolerated before two shapes count as overlapping.
+TOLERANCE = 1e-3
+
+
+def check_house(scene: Scene, navgrid: NavGrid | None = None, *, reach: float = 1.0) -> list[str]:
+    """Problems that make ``scene`` unusable, as sentences; ``[]`` if none.
+
+    ``navgrid`` (built from this scene) is reused when given; ``reach`` is how far (metres)
+    the agent reaches from where it stands."""
+    nav = navgrid if navgrid is not None else NavGrid.from_scene(scene)
+    feet = {o.id: fp for o in scene.objects if (fp := object_footprint(scene, o)) is not None}
+    names = {o.id: f"object {o.id} ({o.asset})" for o in scene.objects}
+    problems = check_doors_link_rooms(scene)
+    problems += check_spawns(scene, nav)
+    component = nav.component(scene.agent.position) if nav.is_walkable(scene.agent.position) else 0
+    if component:
+        problems += check_rooms_reachable(scene, nav, component)
+        problems += check_objects_reachable(scene, nav, component, feet, names, reach)
+    problems += check_furniture_overlaps(scene, feet, names)
+    problems += check_furniture_walls(scene, feet, names)
+    problems += check_door_clearance(scene, feet, names)
+    problems += check_surfaces(scene, feet, names)
+    problems += check_inside_house(scene, feet, names)
+    return problems
+
+
+# ---------------------------------------------------------------------------------------
+
+
+def check_doors_link_rooms(scene: Scene) -> list[str]:
+    parent = {r.id: r.id for r in scene.rooms}
+
+    def find(x: str) -> str:
+        while parent[x] != x:
+            x = parent[x]
+        return x
+
+    for door in scene.doors:
+        rooms = [r for r in door.connects if r in parent]
+        for a, b in zip(rooms, rooms[1:]):
+            parent[find(a)] = find(b)
+    groups: dict[str, list[str]] = {}
+    for r in scene.rooms:
+        groups.setdefault(find(r.id), []).append(r.id)
+    if len(groups) <= 1:
+        return []
+    parts = "; ".join(", ".join(g) for g in groups.values())
+    return [f"rooms are not all linked by doors: separate groups {parts}"]
+
+
+def check_spawns(scene: Scene, nav: NavGrid) -> list[str]:
+    out = []
+    if not nav.is_walkable(scene.agent.position):
+        out.append(f"agent spawn {tuple(scene.agent.position)} is not on walkable floor")
+    if scene.user is not None:
+        if not nav.is_walkable(scene.user.position):
+            out.append(f"user spawn {tuple(scene.user.position)} is not on walkable floor")
+        elif not out and not nav.reachable(scene.agent.position, scene.user.position):
+            out.append("user spawn cannot be reached from the agent spawn")
+    return out
+
+
+def check_rooms_reachable(scene: Scene, nav: NavGrid, component: int) -> list[str]:
+    out = []
+    for room in scene.rooms:
+        mask = np.zeros(nav.shape, dtype=bool)
+        nav._raster.fill_polygon(mask, np.asarray(room.polygon))
+        if not (mask & (nav.labels == component)).any():
+            out.append(f"room {room.id} has no walkable floor reachable from the agent spawn")
+    return out
+
+
+def check_objects_reachable(scene: Scene, nav: NavGrid, component: int, feet: dict[int, np.ndarray],
+                            names: dict[int, str], reach: float) -> list[str]:
+    """Floor furniture, and every receptacle something rests on, need a standing point."""
+    out = []
+    for obj in scene.objects:
+        if is_floor_furniture(obj) and obj.id in feet:
+            cells, _ = nav.reach_cells(feet[obj.id], reach, component)
+            if len(cells) == 0:
+                out.append(f"{names[obj.id]} cannot be reached from the agent spawn")
+    seen = set()
+    for obj in scene.objects:
+        if obj.on is None or obj.on not in names:
+            continue
+        support = scene.object(obj.on)
+        found = find_receptacle(scene, support, obj, feet.get(obj.id))
+        if found is None or (obj.on, found[0]) in seen:
+            continue
+        seen.add((obj.on, found[0]))
+        cells, _ = nav.reach_cells(found[1], reach, component)
+        if len(cells) == 0:
+            out.append(f"receptacle {found[0]} of {names[obj.on]} holds objects but cannot be reached")
+    return out
+
+
+def find_receptacle(scene: Scene, support: ObjectInstance, obj: ObjectInstance,
+                    footprint: np.ndarray | None) -> tuple[int, np.ndarray] | None:
+    """(receptacle index, world corners) of the base-link receptacle of ``support`` that
+    ``obj`` rests on: the one at its height holding the object's footprint centre."""
+    if not registry.has(support.asset):
+        return None
+    model = registry.make(support.asset, support.variant)
+    s = np.asarray(support.scale)
+    best = None
+    for k, rec in enumerate(model.receptacles):
+        if rec.link != "base":
+            continue
+        top = support.position[2] + rec.height * s[2]
+        if abs(obj.position[2] - top) > 0.01:
+            continue
+        c, h = np.asarray(rec.center) * s[:2], np.asarray(rec.half_size) * s[:2]
+        corners = rect_corners(support.position, (c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1]), yaw_of(support))
+        centre = footprint.mean(axis=0) if footprint is not None else np.asarray(obj.position[:2])
+        if _points_in_rect(centre[None, :], corners, TOLERANCE).all():
+            return k, corners
+        best = best or (k, corners)
+    return best
+
+
+# ---------------------------------------------------------------------------------------
+# Overlaps (separating-axis test on rectangles given by 4 corners)
+
+
+def penetration(a: np.ndarray, b: np.ndarray) -> float:
+    """How deep two convex polygons overlap (<= 0: apart or touching)."""
+    depth = np.inf
+    for poly in (a, b):
+        edges = np.roll(poly, -1, axis=0) - poly
+        for e in edges[:2]:
+            n = np.array([-e[1], e[0]])
+            norm = float(np.hypot(*n))
+            if norm < 1e-12:
+                continue
+            n /= norm
+            pa, pb = a @ n, b @ n
+            depth = min(depth, min(pa.max() - pb.min(), pb.max() - pa.min()))
+            if depth <= 0:
+                return float(depth)
+    return float(depth)
+
+
+def _aabb(c: np.ndarray) -> np.ndarray:
+    return np.concatenate([c.min(axis=0), c.max(axis=0)])
+
+
+def _aabb_touch(a: np.ndarray, b: np.ndarray) -> bool:
+    return bool(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3])
+
+
+def check_furniture_overlaps(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
+    floor = [o.id for o in scene.objects if is_floor_furniture(o) and o.id in feet]
+    boxes = {i: _aabb(feet[i]) for i in floor}
+    out = []
+    for i, j in combinations(floor, 2):
+        if _aabb_touch(boxes[i], boxes[j]) and penetration(feet[i], feet[j]) > TOLERANCE:
+            out.append(f"{names[i]} and {names[j]} overlap")
+    return out
+
+
+def wall_boxes(scene: Scene) -> list[tuple[str, np.ndarray]]:
+    """Wall pieces between door openings (of any door: furniture in a doorway is a door
+    clearance problem), as corner arrays."""
+    out = []
+    for wall in scene.walls:
+        start, u, n, length = wall_frame(wall)
+        t = wall.thickness / 2
+        doors = [d for d in scene.doors if d.wall == wall.id]
+        for a, b in wall_solid_spans(wall, doors, cut_closed=True):
+            p0, p1 = start + u * a, start + u * b
+            out.append((wall.id, np.array([p0 - n * t, p1 - n * t, p1 + n * t, p0 + n * t])))
+    return out
+
+
+def check_furniture_walls(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
+    walls = [(wid, c, _aabb(c)) for wid, c in wall_boxes(scene)]
+    out = []
+    for obj in scene.objects:
+        if not is_floor_furniture(obj) or obj.id not in feet:
+            continue
+        box = _aabb(feet[obj.id])
+        for wid, corners, wbox in walls:
+            if _aabb_touch(box, wbox) and penetration(feet[obj.id], corners) > TOLERANCE:
+                out.append(f"{names[obj.id]} goes into wall {wid}")
+                break
+    return out
+
+
+def check_door_clearance(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
+    walls = {w.id: w for w in scene.walls}
+    floor = [o.id for o in scene.objects if is_floor_furniture(o) and o.id in feet]
+    out = []
+    for door in scene.doors:
+        wall = walls.get(door.wall)
+        if wall is None:
+            continue
+        depth = door.width if door.leaf else min(door.width, 0.9)
+        for sq in door_keepout_squares(wall, door, depth):
+            for i in floor:
+                if _aabb_touch(_aabb(sq), _aabb(feet[i])) and penetration(sq, feet[i]) > TOLERANCE:
+                    out.append(f"{names[i]} blocks the space in front of {door.id}")
+    return out
+
+
+def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
+    """Objects resting on something lie inside one of its receptacles, apart from each other."""
+    out = []
+    by_surface: dict[tuple[int, int], list[int]] = {}
+    ids = {o.id for o in scene.objects}
+    for obj in scene.objects:
+        if obj.on is None or obj.on not in ids or obj.id not in feet:
+            continue
+        found = find_receptacle(scene, scene.object(obj.on), obj, feet[obj.id])
+        if found is None or not _points_in_rect(feet[obj.id], found[1], TOLERANCE).all():
+            out.append(f"{names[obj.id]} is not inside a receptacle of {names[obj.on]}")
+            continue
+        by_surface.setdefault((obj.on, found[0]), []).append(obj.id)
+    for members in by_surface.values():
+        for i, j in combinations(members, 2):
+            if penetration(feet[i], feet[j]) > TOLERANCE:
+                out.append(f"{names[i]} and {names[j]} overlap on {names[scene.object(i).on]}")
+    return out
+
+
+def check_inside_house(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
+    polys = [np.asarray(r.polygon) for r in scene.rooms]
+    out = []
+    for obj in scene.objects:
+        if not is_floor_furniture(obj) or obj.id not in feet:
+            continue
+        shrunk = feet[obj.id] + (feet[obj.id].mean(axis=0) - feet[obj.id]) * 1e-3
+        inside = np.zeros(4, dtype=bool)
+        for poly in polys:
+            inside |= _points_in_polygon(shrunk, poly)
+        if not inside.all():
+            out.append(f"{names[obj.id]} is not inside the house")
+    return out
+
+
+def _points_in_rect(pts: np.ndarray, corners: np.ndarray, tol: float) -> np.ndarray:
+    o = corners[0]
+    e0, e1 = corners[1] - o, corners[3] - o
+    l0, l1 = float(np.hypot(*e0)), float(np.hypot(*e1))
+    rel = pts - o
+    s, t = rel @ e0 / l0, rel @ e1 / l1
+    return (s >= -tol) & (s <= l0 + tol) & (t >= -tol) & (t <= l1 + tol)
+
+
+def _points_in_polygon(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
+    from legent_gym.world.generation.furnish import points_in_polygon
+
+    return points_in_polygon(pts, poly)
+

@@ -1,0 +1,681 @@
+"""Walkable floor and shortest paths over a scene, computed from the scene data alone.
+
+:class:`NavGrid` rasterises a :class:`~legent_gym.world.scene.Scene` into an occupancy grid
+(no physics, no rendering): room floors are free, walls are blocked except where a door is
+passable, floor furniture blocks with its footprint (asset bounds, scaled and rotated by
+yaw), small objects are ignored. Obstacles are inflated by the agent radius with a
+Euclidean distance transform, so a cell is *walkable* when a disc of that radius centred
+on it touches nothing.
+
+Queries: :meth:`NavGrid.path` (grid Dijkstra from the goal, cached per goal, then a
+line-of-sight string-pull so a path has few corners), :meth:`NavGrid.distance` (geodesic
+metres), :meth:`NavGrid.distance_field`, :meth:`NavGrid.is_walkable`,
+:meth:`NavGrid.nearest_walkable`, :meth:`NavGrid.reachable` and
+:meth:`NavGrid.standing_point` (where to stand to reach an object).
+
+Doors: a door is passable when ``openness > 0.5`` or it has no leaf (an archway); a
+passable door's leaf is taken to stand fully open (perpendicular to the wall at its hinge,
+on its swing side) and blocks as a thin slab; a closed door blocks like the wall.
+
+Grid convention: cell ``(row, col)`` covers ``x in [x0 + col*res, x0 + (col+1)*res)`` and
+``y in [y0 + row*res, ...)``; rows grow with y.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+from collections.abc import Iterable, Sequence
+
+import numpy as np
+from scipy import ndimage
+from scipy.sparse import csr_matrix
+from scipy.sparse.csgraph import dijkstra
+
+from legent_gym.world.scene import Door, ObjectInstance, Scene, Wall
+
+DEFAULT_AGENT_RADIUS = 0.25
+DEFAULT_RESOLUTION = 0.05
+#: Thickness of an open door leaf, metres (for the occupancy only).
+LEAF_THICKNESS = 0.04
+
+XY = tuple[float, float]
+
+
+# ---------------------------------------------------------------------------------------
+# Geometry of scene elements (shared with generation and validation)
+
+
+def yaw_of(obj: ObjectInstance) -> float:
+    """The object's heading in degrees (rotation about z)."""
+    return float(obj.rotation[2])
+
+
+def rotation_matrix(yaw_deg: float) -> np.ndarray:
+    """2x2 matrix that rotates a vector by ``yaw_deg`` degrees counter-clockwise."""
+    a = math.radians(yaw_deg)
+    c, s = math.cos(a), math.sin(a)
+    # Snap exact quarter turns so axis-aligned pieces stay exactly axis-aligned.
+    c, s = (round(c) if abs(c - round(c)) < 1e-12 else c), (round(s) if abs(s - round(s)) < 1e-12 else s)
+    return np.array([[c, -s], [s, c]])
+
+
+def rect_corners(center: Sequence[float], local: Sequence[float], yaw_deg: float) -> np.ndarray:
+    """World corners (4, 2), counter-clockwise, of the local rectangle
+    ``(xmin, ymin, xmax, ymax)`` placed at ``center`` and turned by ``yaw_deg``."""
+    x0, y0, x1, y1 = local
+    pts = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], dtype=np.float64)
+    return pts @ rotation_matrix(yaw_deg).T + np.asarray(center[:2], dtype=np.float64)
+
+
+def asset_local_bounds(scene: Scene | None, obj: ObjectInstance) -> np.ndarray | None:
+    """The object's bounds ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` in its own frame,
+    scaled; ``None`` when the asset is unknown (an import without a size)."""
+    from legent_gym.world.assets import registry
+
+    scale = np.asarray(obj.scale, dtype=np.float64)
+    if scene is not None:
+        for imported in scene.assets:
+            if imported.id == obj.asset:
+                if imported.size is None:
+                    return None
+                size = np.asarray(imported.size) * scale
+                return np.array([[-size[0] / 2, -size[1] / 2, 0.0], [size[0] / 2, size[1] / 2, size[2]]])
+    if not registry.has(obj.asset):
+        return None
+    return registry.make(obj.asset, obj.variant).bounds() * scale
+
+
+def object_footprint(scene: Scene | None, obj: ObjectInstance) -> np.ndarray | None:
+    """World corners (4, 2) of the object's footprint, or ``None`` if its size is unknown."""
+    b = asset_local_bounds(scene, obj)
+    if b is None:
+        return None
+    return rect_corners(obj.position, (b[0, 0], b[0, 1], b[1, 0], b[1, 1]), yaw_of(obj))
+
+
+def is_floor_furniture(obj: ObjectInstance) -> bool:
+    """Furniture standing on the floor: static and not resting on another object."""
+    return obj.kind == "static" and obj.on is None
+
+
+def door_passable(door: Door) -> bool:
+    """An archway, or a door more than half open."""
+    return (not door.leaf) or door.openness > 0.5
+
+
+def wall_frame(wall: Wall) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(start, unit direction, left normal, length) of a wall."""
+    start = np.asarray(wall.start, dtype=np.float64)
+    d = np.asarray(wall.end, dtype=np.float64) - start
+    length = float(np.hypot(*d))
+    u = d / length if length > 0 else np.array([1.0, 0.0])
+    return start, u, np.array([-u[1], u[0]]), length
+
+
+def wall_solid_spans(wall: Wall, doors: Iterable[Door], *, cut_closed: bool = False) -> list[tuple[float, float]]:
+    """Intervals ``[a, b]`` (metres from the wall's start) where the wall is solid at floor
+    level: the openings of passable doors are cut out (of every door with ``cut_closed``);
+    windows count as solid (they are above the floor).
+    """
+    length = wall.length
+    cuts = sorted(
+        (d.offset - d.width / 2, d.offset + d.width / 2)
+        for d in doors
+        if d.wall == wall.id and (cut_closed or door_passable(d))
+    )
+    spans, cursor = [], 0.0
+    for a, b in cuts:
+        if a > cursor + 1e-9:
+            spans.append((cursor, min(a, length)))
+        cursor = max(cursor, b)
+    if cursor < length - 1e-9:
+        spans.append((cursor, length))
+    return spans
+
+
+def door_hinge_point(wall: Wall, door: Door) -> np.ndarray:
+    start, u, _, _ = wall_frame(wall)
+    along = door.offset - door.width / 2 if door.hinge == "start" else door.offset + door.width / 2
+    return start + u * along
+
+
+def door_swing_normal(wall: Wall, door: Door) -> np.ndarray:
+    _, _, left, _ = wall_frame(wall)
+    return left if door.swing == "left" else -left
+
+
+def door_leaf_open_segment(wall: Wall, door: Door) -> tuple[np.ndarray, np.ndarray]:
+    """The leaf of a fully open door: from the hinge, perpendicular to the wall."""
+    hinge = door_hinge_point(wall, door)
+    return hinge, hinge + door_swing_normal(wall, door) * door.width
+
+
+def leaf_half_thickness(resolution: float) -> float:
+    """Half thickness used to rasterise an open leaf: at least half a cell, so that a thin
+    slab between cell centres is not lost."""
+    return max(LEAF_THICKNESS / 2, 0.5 * resolution)
+
+
+def door_keepout_squares(wall: Wall, door: Door, depth: float | None = None) -> list[np.ndarray]:
+    """The free squares (4, 2) in front of a door on both sides of the wall, from the wall
+    faces: ``width`` wide along the wall and ``depth`` (default the width: the leaf's swing)
+    deep."""
+    start, u, left, _ = wall_frame(wall)
+    depth = door.width if depth is None else depth
+    half_t = wall.thickness / 2
+    centre = start + u * door.offset
+    squares = []
+    for side in (left, -left):
+        base = centre + side * half_t
+        a = base - u * door.width / 2
+        b = base + u * door.width / 2
+        squares.append(np.array([a, b, b + side * depth, a + side * depth]))
+    return squares
+
+
+# ---------------------------------------------------------------------------------------
+# Rasterisation helpers (cell centres inside a shape)
+
+
+class _Raster:
+    """Maps world coordinates to a grid and fills shapes into boolean masks."""
+
+    def __init__(self, origin: XY, resolution: float, shape: tuple[int, int]):
+        self.x0, self.y0 = float(origin[0]), float(origin[1])
+        self.res = float(resolution)
+        self.shape = shape
+
+    def window(self, xmin: float, ymin: float, xmax: float, ymax: float):
+        """Index ranges and cell-centre coordinates covering a world box (clipped)."""
+        h, w = self.shape
+        c0 = max(0, int(math.floor((xmin - self.x0) / self.res)))
+        c1 = min(w, int(math.ceil((xmax - self.x0) / self.res)) + 1)
+        r0 = max(0, int(math.floor((ymin - self.y0) / self.res)))
+        r1 = min(h, int(math.ceil((ymax - self.y0) / self.res)) + 1)
+        if c0 >= c1 or r0 >= r1:
+            return None
+        xs = self.x0 + (np.arange(c0, c1) + 0.5) * self.res
+        ys = self.y0 + (np.arange(r0, r1) + 0.5) * self.res
+        return (slice(r0, r1), slice(c0, c1)), xs[None, :], ys[:, None]
+
+    def fill_polygon(self, mask: np.ndarray, polygon: np.ndarray) -> None:
+        poly = np.asarray(polygon, dtype=np.float64)
+        win = self.window(*poly.min(axis=0), *poly.max(axis=0))
+        if win is None:
+            return
+        sl, xs, ys = win
+        inside = np.zeros((ys.shape[0], xs.shape[1]), dtype=bool)
+        # Even-odd crossing test, vectorised over the window's cell centres.
+        for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
+            if ya == yb:
+                continue
+            crosses = (ya > ys) != (yb > ys)
+            x_at = xa + (ys - ya) * (xb - xa) / (yb - ya)
+            inside ^= crosses & (xs < x_at)
+        mask[sl] |= inside
+
+    def fill_oriented_rect(self, mask: np.ndarray, centre: np.ndarray, u: np.ndarray,
+                           along: tuple[float, float], across: tuple[float, float]) -> None:
+        """Fill cells whose centre p has ``(p - centre) . u`` in ``along`` and
+        ``(p - centre) . perp(u)`` in ``across``."""
+        v = np.array([-u[1], u[0]])
+        corners = [centre + u * a + v * b for a in along for b in across]
+        lo, hi = np.min(corners, axis=0), np.max(corners, axis=0)
+        win = self.window(lo[0], lo[1], hi[0], hi[1])
+        if win is None:
+            return
+        sl, xs, ys = win
+        dx, dy = xs - centre[0], ys - centre[1]
+        pu = dx * u[0] + dy * u[1]
+        pv = dx * v[0] + dy * v[1]
+        eps = 1e-9
+        mask[sl] |= ((pu >= along[0] - eps) & (pu <= along[1] + eps)
+                     & (pv >= across[0] - eps) & (pv <= across[1] + eps))
+
+    def fill_corners(self, mask: np.ndarray, corners: np.ndarray) -> None:
+        """Fill a rectangle given by its 4 corners (any orientation)."""
+        c = np.asarray(corners, dtype=np.float64)
+        e0 = c[1] - c[0]
+        length0 = float(np.hypot(*e0))
+        if length0 <= 0:
+            return
+        u = e0 / length0
+        v = np.array([-u[1], u[0]])
+        width = float(np.dot(c[3] - c[0], v))
+        across = (0.0, width) if width >= 0 else (width, 0.0)
+        self.fill_oriented_rect(mask, c[0], u, (0.0, length0), across)
+
+
+def walkable_from_free(free: np.ndarray, radius: float, resolution: float) -> np.ndarray:
+    """Cells of ``free`` whose clearance to any blocked cell is at least ``radius``.
+
+    The distance transform measures centre to centre; half a cell is added because the
+    obstacle's edge may lie anywhere in the blocked cell.
+    """
+    if radius <= 0:
+        return free.copy()
+    clearance = ndimage.distance_transform_edt(free)
+    return clearance * resolution >= radius + 0.5 * resolution
+
+
+# ---------------------------------------------------------------------------------------
+
+
+class NavGrid:
+    """Occupancy grid of walkable floor, with shortest paths and reach queries.
+
+    Build it with :meth:`from_scene`. Everything is in world metres; points are ``(x, y)``.
+    """
+
+    def __init__(self, origin: XY, resolution: float, floor: np.ndarray, walls: np.ndarray,
+                 obstacles: np.ndarray, agent_radius: float, *, scene: Scene | None = None,
+                 footprints: dict[int, np.ndarray] | None = None):
+        self.origin = (float(origin[0]), float(origin[1]))
+        self.resolution = float(resolution)
+        self.agent_radius = float(agent_radius)
+        self.floor = floor
+        #: Walls and closed doors (what blocks line of sight at floor level).
+        self.walls = walls
+        #: Furniture footprints and open door leaves.
+        self.obstacles = obstacles
+        self.free = floor & ~walls & ~obstacles
+        self.walkable = walkable_from_free(self.free, self.agent_radius, self.resolution)
+        self.scene = scene
+        self.footprints = footprints or {}
+        self._raster = _Raster(self.origin, self.resolution, self.free.shape)
+        self._labels: np.ndarray | None = None
+        self._nearest: np.ndarray | None = None
+        self._graph: csr_matrix | None = None
+        self._index: np.ndarray | None = None
+        self._cells: np.ndarray | None = None
+        self._fields: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
+        self.cache_size = 32
+
+    # -- construction -------------------------------------------------------------------
+    @classmethod
+    def from_scene(cls, scene: Scene, agent_radius: float = DEFAULT_AGENT_RADIUS,
+                   resolution: float = DEFAULT_RESOLUTION, *, ignore_objects: bool = False,
+                   margin: float = 0.5) -> NavGrid:
+        """Rasterise ``scene``: floors, walls (with passable door openings), open door
+        leaves and floor furniture footprints; inflate obstacles by ``agent_radius``."""
+        (xmin, ymin), (xmax, ymax) = scene.bounds()
+        origin = (xmin - margin, ymin - margin)
+        shape = (int(math.ceil((ymax - ymin + 2 * margin) / resolution)),
+                 int(math.ceil((xmax - xmin + 2 * margin) / resolution)))
+        raster = _Raster(origin, resolution, shape)
+        floor = np.zeros(shape, dtype=bool)
+        for room in scene.rooms:
+            raster.fill_polygon(floor, np.asarray(room.polygon))
+        walls = np.zeros(shape, dtype=bool)
+        obstacles = np.zeros(shape, dtype=bool)
+        _fill_walls(raster, walls, obstacles, scene)
+        footprints = {}
+        for obj in scene.objects:
+            fp = object_footprint(scene, obj)
+            if fp is None:
+                continue
+            footprints[obj.id] = fp
+            if is_floor_furniture(obj) and not ignore_objects:
+                raster.fill_corners(obstacles, fp)
+        return cls(origin, resolution, floor, walls, obstacles, agent_radius, scene=scene,
+                   footprints=footprints)
+
+    # -- coordinates --------------------------------------------------------------------
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.free.shape
+
+    def to_cell(self, xy: Sequence[float]) -> tuple[int, int]:
+        """(row, col) of the cell holding ``xy`` (may lie outside the grid)."""
+        return (int(math.floor((xy[1] - self.origin[1]) / self.resolution)),
+                int(math.floor((xy[0] - self.origin[0]) / self.resolution)))
+
+    def to_world(self, cell: Sequence[int]) -> XY:
+        """Centre of cell ``(row, col)``."""
+        return (self.origin[0] + (cell[1] + 0.5) * self.resolution,
+                self.origin[1] + (cell[0] + 0.5) * self.resolution)
+
+    def _inside(self, cell: tuple[int, int]) -> bool:
+        return 0 <= cell[0] < self.shape[0] and 0 <= cell[1] < self.shape[1]
+
+    def _clamp(self, cell: tuple[int, int]) -> tuple[int, int]:
+        return (min(max(cell[0], 0), self.shape[0] - 1), min(max(cell[1], 0), self.shape[1] - 1))
+
+    # -- simple queries -----------------------------------------------------------------
+    def is_walkable(self, xy: Sequence[float]) -> bool:
+        """Whether the agent (a disc of ``agent_radius``) can stand at ``xy``."""
+        cell = self.to_cell(xy)
+        return self._inside(cell) and bool(self.walkable[cell])
+
+    def _snap(self, xy: Sequence[float]) -> tuple[int, int] | None:
+        """The walkable cell nearest to ``xy`` (None when nothing is walkable)."""
+        cell = self._clamp(self.to_cell(xy))
+        if self.walkable[cell]:
+            return cell
+        nearest = self._nearest_table()
+        if nearest is None:
+            return None
+        return int(nearest[0][cell]), int(nearest[1][cell])
+
+    def _nearest_table(self) -> np.ndarray | None:
+        """For every cell, the indices of the nearest walkable cell (computed once)."""
+        if self._nearest is None and self.walkable.any():
+            _, self._nearest = ndimage.distance_transform_edt(~self.walkable, return_indices=True)
+        return self._nearest
+
+    def nearest_walkable(self, xy: Sequence[float]) -> XY | None:
+        """``xy`` itself when walkable, else the centre of the nearest walkable cell."""
+        if self.is_walkable(xy):
+            return (float(xy[0]), float(xy[1]))
+        cell = self._snap(xy)
+        return None if cell is None else self.to_world(cell)
+
+    @property
+    def labels(self) -> np.ndarray:
+        """Connected components of walkable cells (0 = not walkable)."""
+        if self._labels is None:
+            self._labels, _ = ndimage.label(self.walkable)
+        return self._labels
+
+    def component(self, xy: Sequence[float]) -> int:
+        """Label of the component of the walkable cell nearest to ``xy`` (0: none)."""
+        cell = self._snap(xy)
+        return 0 if cell is None else int(self.labels[cell])
+
+    def reachable(self, a: Sequence[float], b: Sequence[float]) -> bool:
+        """Whether a path joins ``a`` and ``b`` (each snapped to its nearest walkable cell)."""
+        ca, cb = self.component(a), self.component(b)
+        return ca != 0 and ca == cb
+
+    # -- shortest paths -----------------------------------------------------------------
+    def _build_graph(self) -> None:
+        """8-connected graph over walkable cells; a diagonal step needs both of the cells it
+        passes between to be walkable (no cutting corners)."""
+        walk = self.walkable
+        h, w = walk.shape
+        index = np.full(walk.shape, -1, dtype=np.int64)
+        index[walk] = np.arange(int(walk.sum()))
+        rows, cols, weights = [], [], []
+        res = self.resolution
+        for dr, dc in ((0, 1), (1, 0), (1, 1), (1, -1)):
+            a_rows = slice(0, h - dr)
+            b_rows = slice(dr, h)
+            a_cols = slice(max(0, -dc), w - max(0, dc))
+            b_cols = slice(max(0, dc), w + min(0, dc))
+            ok = walk[a_rows, a_cols] & walk[b_rows, b_cols]
+            if dr and dc:
+                ok &= walk[b_rows, a_cols] & walk[a_rows, b_cols]
+            rows.append(index[a_rows, a_cols][ok])
+            cols.append(index[b_rows, b_cols][ok])
+            weights.append(np.full(int(ok.sum()), res * (math.sqrt(2.0) if dr and dc else 1.0)))
+        r, c, wt = np.concatenate(rows), np.concatenate(cols), np.concatenate(weights)
+        n = int(walk.sum())
+        self._graph = csr_matrix((np.concatenate([wt, wt]), (np.concatenate([r, c]), np.concatenate([c, r]))),
+                                 shape=(n, n))
+        self._index = index
+        self._cells = np.argwhere(walk)
+
+    def precompute(self) -> NavGrid:
+        """Build the path graph, components and snapping table now (else on first use)."""
+        if self._graph is None:
+            self._build_graph()
+        _ = self.labels
+        self._nearest_table()
+        return self
+
+    def _field(self, cell: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
+        """(distances, predecessors) over graph nodes from ``cell``, cached (LRU)."""
+        if self._graph is None:
+            self._build_graph()
+        node = int(self._index[cell])
+        hit = self._fields.get(node)
+        if hit is not None:
+            self._fields.move_to_end(node)
+            return hit
+        dist, pred = dijkstra(self._graph, directed=True, indices=node, return_predecessors=True)
+        self._fields[node] = (dist, pred)
+        if len(self._fields) > self.cache_size:
+            self._fields.popitem(last=False)
+        return dist, pred
+
+    def distance_field(self, goal: Sequence[float]) -> np.ndarray:
+        """Grid geodesic distance (metres) from every cell to ``goal``; ``inf`` where not
+        walkable or not connected. Cached per goal cell, so it is cheap to ask again."""
+        out = np.full(self.shape, np.inf)
+        cell = self._snap(goal)
+        if cell is None:
+            return out
+        dist, _ = self._field(cell)
+        out[self.walkable] = dist
+        return out
+
+    def path(self, start: Sequence[float], goal: Sequence[float]) -> list[XY]:
+        """Shortest walkable path from ``start`` to ``goal`` as a list of corner points,
+        starting at ``start`` and ending at ``goal`` (each replaced by its nearest walkable
+        point when not walkable). ``[]`` when there is no path."""
+        s_cell, g_cell = self._snap(start), self._snap(goal)
+        if s_cell is None or g_cell is None:
+            return []
+        if self.labels[s_cell] != self.labels[g_cell]:
+            return []
+        start_pt = self._endpoint(start, s_cell)
+        goal_pt = self._endpoint(goal, g_cell)
+        if s_cell == g_cell:
+            return [start_pt] if start_pt == goal_pt else [start_pt, goal_pt]
+        _, pred = self._field(g_cell)
+        node = int(self._index[s_cell])
+        chain = [node]
+        while node >= 0 and pred[node] >= 0:
+            node = int(pred[node])
+            chain.append(node)
+        rc = self._cells[np.asarray(chain)].astype(np.float64) + 0.5  # continuous (row, col)
+        pts = np.column_stack([rc[:, 1], rc[:, 0]])  # (col, row) == grid x, y
+        pts[0] = self._grid_xy(start_pt)
+        pts[-1] = self._grid_xy(goal_pt)
+        keep = self._string_pull(pts)
+        return [self._world_xy(pts[i]) for i in keep]
+
+    def distance(self, a: Sequence[float], b: Sequence[float]) -> float:
+        """Geodesic distance in metres along :meth:`path` (``inf`` when unreachable)."""
+        pts = self.path(a, b)
+        if not pts:
+            return math.inf
+        return float(sum(math.dist(p, q) for p, q in zip(pts, pts[1:])))
+
+    def _endpoint(self, xy: Sequence[float], cell: tuple[int, int]) -> XY:
+        if self.to_cell(xy) == cell:
+            return (float(xy[0]), float(xy[1]))
+        return self.to_world(cell)
+
+    def _grid_xy(self, xy: Sequence[float]) -> np.ndarray:
+        return np.array([(xy[0] - self.origin[0]) / self.resolution, (xy[1] - self.origin[1]) / self.resolution])
+
+    def _world_xy(self, g: np.ndarray) -> XY:
+        return (round(self.origin[0] + float(g[0]) * self.resolution, 6),
+                round(self.origin[1] + float(g[1]) * self.resolution, 6))
+
+    def _string_pull(self, pts: np.ndarray, max_targets: int = 64) -> list[int]:
+        """Indices of the path points kept: from each kept point, jump to the furthest of a
+        sample of later points in clear line of sight (checked on the walkable mask)."""
+        n = len(pts)
+        keep = [0]
+        anchor = 0
+        while anchor < n - 1:
+            step = max(1, (n - 1 - anchor) // max_targets)
+            cand = np.arange(anchor + 1, n, step)
+            if cand[-1] != n - 1:
+                cand = np.append(cand, n - 1)
+            visible = self._clear_many(pts[anchor], pts[cand])
+            # The next point is always reachable (adjacent cells, no corner cutting).
+            k = int(np.nonzero(visible)[0][-1]) if visible.any() else -1
+            best = int(cand[k]) if k >= 0 else anchor + 1
+            upto = int(cand[k + 1]) if k + 1 < len(cand) else best
+            if upto > best + 1:  # refine between the last visible sample and the next one
+                between = np.arange(best + 1, upto)
+                seen = self._clear_many(pts[anchor], pts[between])
+                if seen.any():
+                    best = int(between[np.nonzero(seen)[0][-1]])
+            keep.append(best)
+            anchor = best
+        return keep
+
+    def _clear_many(self, a: np.ndarray, targets: np.ndarray) -> np.ndarray:
+        """For each target, whether segment a -> target (grid coordinates) passes only
+        through walkable cells: every cell it enters is found from its crossings of the
+        grid lines (an exact supercover, vectorised over targets)."""
+        return _segments_clear(self.walkable, a, targets)
+
+    # -- line of sight and reach --------------------------------------------------------
+    def line_of_sight(self, a: Sequence[float], b: Sequence[float], *, through: str = "walls") -> bool:
+        """Whether segment a -> b crosses no wall (``through="walls"``) or stays on
+        walkable cells (``through="walkable"``)."""
+        ga, gb = self._grid_xy(a), self._grid_xy(b)
+        if through == "walkable":
+            return bool(self._clear_many(ga, gb[None, :])[0])
+        return bool(self._wall_free(ga[None, :], gb[None, :])[0])
+
+    def _wall_free(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Segments a[i] -> b[i] (grid coordinates) that cross no wall cell."""
+        d = b - a
+        m = int(np.ceil(np.hypot(d[:, 0], d[:, 1]).max() * 2.0)) + 1 if len(a) else 1
+        t = np.linspace(0.0, 1.0, m + 1)[None, :]
+        sx = np.clip(np.floor(a[:, 0:1] + d[:, 0:1] * t).astype(np.int64), 0, self.shape[1] - 1)
+        sy = np.clip(np.floor(a[:, 1:2] + d[:, 1:2] * t).astype(np.int64), 0, self.shape[0] - 1)
+        return ~self.walls[sy, sx].any(axis=1)
+
+    def footprint(self, object_id: int) -> np.ndarray:
+        """World corners (4, 2) of an object's footprint."""
+        if object_id not in self.footprints:
+            raise KeyError(f"no footprint for object {object_id} (unknown id or asset size)")
+        return self.footprints[object_id]
+
+    def reach_cells(self, corners: np.ndarray, reach: float, component: int | None = None
+                    ) -> tuple[np.ndarray, np.ndarray]:
+        """Walkable cells (N, 2 as row, col) within ``reach`` metres of the rectangle
+        ``corners`` and in line of sight of it (no wall between), with their distances;
+        sorted nearest first. ``component`` restricts to one connected component."""
+        c = np.asarray(corners, dtype=np.float64)
+        lo, hi = c.min(axis=0) - reach, c.max(axis=0) + reach
+        win = self._raster.window(lo[0], lo[1], hi[0], hi[1])
+        empty = (np.zeros((0, 2), dtype=np.int64), np.zeros(0))
+        if win is None:
+            return empty
+        sl, xs, ys = win
+        sub = self.walkable[sl]
+        if component is not None:
+            sub = sub & (self.labels[sl] == component)
+        rr, cc = np.nonzero(sub)
+        if len(rr) == 0:
+            return empty
+        px, py = xs[0, cc], ys[rr, 0]
+        nearest = _closest_on_rect(c, np.column_stack([px, py]))
+        dist = np.hypot(nearest[:, 0] - px, nearest[:, 1] - py)
+        near = dist <= reach
+        rr, cc, px, py, nearest, dist = rr[near], cc[near], px[near], py[near], nearest[near], dist[near]
+        order = np.argsort(dist, kind="stable")
+        rr, cc, px, py, nearest, dist = rr[order], cc[order], px[order], py[order], nearest[order], dist[order]
+        a = np.column_stack([(px - self.origin[0]) / self.resolution, (py - self.origin[1]) / self.resolution])
+        b = np.column_stack([(nearest[:, 0] - self.origin[0]) / self.resolution,
+                             (nearest[:, 1] - self.origin[1]) / self.resolution])
+        # Pull the far end back by 1.5 cells: a footprint's back stands a few centimetres
+        # from a wall face, inside the wall's raster band.
+        gap = np.hypot(*(a - b).T)
+        b = b + (a - b) * np.minimum(1.0, 1.5 / np.maximum(gap, 1e-9))[:, None]
+        clear = self._wall_free(a, b) if len(a) else np.zeros(0, dtype=bool)
+        cells = np.column_stack([rr + sl[0].start, cc + sl[1].start])
+        return cells[clear], dist[clear]
+
+    def standing_point(self, object_id: int | np.ndarray, reach: float = 1.0,
+                       start: Sequence[float] | None = None) -> XY | None:
+        """A walkable point from which the object's footprint is within ``reach`` metres
+        (horizontally) with no wall between. With ``start``: the one geodesically nearest
+        to ``start`` (among points reachable from it); else the one nearest the object.
+        ``object_id`` may also be a (4, 2) array of footprint corners. ``None`` if none."""
+        corners = self.footprint(object_id) if isinstance(object_id, int | np.integer) else np.asarray(object_id)
+        component = None
+        if start is not None:
+            component = self.component(start)
+            if component == 0:
+                return None
+        cells, _ = self.reach_cells(corners, reach, component)
+        if len(cells) == 0:
+            return None
+        if start is None:
+            return self.to_world(cells[0])
+        field = self.distance_field(start)
+        best = int(np.argmin(field[cells[:, 0], cells[:, 1]]))
+        return self.to_world(cells[best])
+
+
+def _segments_clear(mask: np.ndarray, a: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """Whether each segment ``a -> targets[i]`` (grid coordinates: x = column, y = row)
+    lies in cells where ``mask`` is true. Cells touched only at a corner point are ignored."""
+    h, w = mask.shape
+    t = np.asarray(targets, dtype=np.float64).reshape(-1, 2)
+    ok = np.ones(len(t), dtype=bool)
+
+    def lookup(rows: np.ndarray, cols: np.ndarray, valid: np.ndarray) -> np.ndarray:
+        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
+        vals = mask[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)] & inside
+        return (vals | ~valid).all(axis=-1)
+
+    ends = np.vstack([a[None, :], t])
+    end_ok = lookup(np.floor(ends[:, 1]).astype(np.int64)[:, None], np.floor(ends[:, 0]).astype(np.int64)[:, None],
+                    np.ones((len(ends), 1), dtype=bool))
+    ok &= end_ok[1:] & end_ok[0]
+    for axis in (0, 1):  # crossings of vertical (x = k) then horizontal (y = k) grid lines
+        other = 1 - axis
+        lo = np.minimum(a[axis], t[:, axis])
+        hi = np.maximum(a[axis], t[:, axis])
+        first = np.floor(lo) + 1.0
+        count = (np.ceil(hi) - first).astype(np.int64)  # lines strictly inside (lo, hi)
+        count = np.maximum(count, 0)
+        kmax = int(count.max()) if len(count) else 0
+        if kmax == 0:
+            continue
+        ks = first[:, None] + np.arange(kmax)[None, :]
+        valid = np.arange(kmax)[None, :] < count[:, None]
+        d = t[:, axis] - a[axis]
+        frac = (ks - a[axis]) / np.where(np.abs(d) < 1e-12, 1.0, d)[:, None]
+        cross = a[other] + frac * (t[:, other] - a[other])[:, None]
+        line = np.floor(cross).astype(np.int64)
+        k = ks.astype(np.int64)
+        if axis == 0:
+            ok &= lookup(line, k - 1, valid) & lookup(line, k, valid)
+        else:
+            ok &= lookup(k - 1, line, valid) & lookup(k, line, valid)
+    return ok
+
+
+def _closest_on_rect(corners: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """Closest points of the (filled) rectangle ``corners`` to each of ``pts``."""
+    o = corners[0]
+    e0, e1 = corners[1] - o, corners[3] - o
+    l0, l1 = float(e0 @ e0), float(e1 @ e1)
+    rel = pts - o
+    s = np.clip(rel @ e0 / max(l0, 1e-12), 0.0, 1.0)
+    t = np.clip(rel @ e1 / max(l1, 1e-12), 0.0, 1.0)
+    return o + s[:, None] * e0 + t[:, None] * e1
+
+
+def _fill_walls(raster: _Raster, walls: np.ndarray, obstacles: np.ndarray, scene: Scene) -> None:
+    doors_by_wall: dict[str, list[Door]] = {}
+    for door in scene.doors:
+        doors_by_wall.setdefault(door.wall, []).append(door)
+    min_half = 0.75 * raster.res  # keep thin walls at least two cells thick
+    for wall in scene.walls:
+        start, u, _, length = wall_frame(wall)
+        half_t = max(wall.thickness / 2, min_half)
+        doors = doors_by_wall.get(wall.id, [])
+        for a, b in wall_solid_spans(wall, doors):
+            # Extend true wall ends by half a thickness so corners close.
+            a2 = a - wall.thickness / 2 if a <= 1e-9 else a
+            b2 = b + wall.thickness / 2 if b >= length - 1e-9 else b
+            raster.fill_oriented_rect(walls, start, u, (a2, b2), (-half_t, half_t))
+        for door in doors:
+            if door.leaf and door_passable(door):
+                hinge, tip = door_leaf_open_segment(wall, door)
+                d = tip - hinge
+                half = leaf_half_thickness(raster.res)
+                raster.fill_oriented_rect(obstacles, hinge, d / np.hypot(*d), (0.0, door.width), (-half, half))
