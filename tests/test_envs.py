@@ -1,0 +1,172 @@
+"""Every registered environment, checked the way users and the ecosystem use them."""
+
+from __future__ import annotations
+
+import pickle
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import legent_gym
+from legent_gym.envs.action_spaces import actions_to_dict
+
+ENV_IDS = legent_gym.ENV_IDS
+SMALL = {"width": 48, "height": 48}
+
+
+def test_ids_are_registered():
+    assert len(ENV_IDS) == 18
+    for task in ("ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn"):
+        for layout in ("OneRoom", "TwoRoom", "FourRoom"):
+            spec = gym.spec(f"Legent/{task}-{layout}-v0")
+            assert spec.max_episode_steps == 25
+            assert isinstance(spec.entry_point, str)
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+@pytest.mark.parametrize("action_type", ["text", "continuous"])
+def test_check_env(env_id, action_type):
+    env = gym.make(env_id, action_type=action_type, **SMALL)
+    check_env(env.unwrapped, skip_render_check=False)
+    env.close()
+
+
+def _policy_actions(env, n, seed):
+    """A fixed sequence of sampled actions (text actions built from sampled dicts)."""
+    rng = np.random.default_rng(seed)
+    space = gym.make("Legent/ComeHere-OneRoom-v0", action_type="continuous").action_space
+    space.seed(int(rng.integers(1 << 30)))
+    out = []
+    for _ in range(n):
+        d = space.sample()
+        d["finish"] = 0
+        d["speak"] = ""
+        out.append(d)
+    if env.unwrapped.action_type == "text":
+        from legent_gym.agent.actions import format_actions
+        from legent_gym.envs.action_spaces import dict_to_actions
+
+        return [format_actions(dict_to_actions(d)) or "rotate_right(0)" for d in out]
+    return out
+
+
+def _rollout(env_id, action_type, seed, steps=50):
+    env = gym.make(env_id, action_type=action_type, **SMALL)
+    obs, _ = env.reset(seed=seed)
+    frames = [obs["rgb"]]
+    infos = []
+    for action in _policy_actions(env, steps, seed):
+        obs, reward, terminated, truncated, info = env.step(action)
+        frames.append(obs["rgb"])
+        infos.append((reward, terminated, truncated, info["agent_pose"], info["held"], info["success"]))
+        if terminated or truncated:
+            obs, _ = env.reset()
+            frames.append(obs["rgb"])
+    env.close()
+    return frames, infos
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_seeded_rollouts_are_identical(env_id):
+    action_type = ("text", "continuous")[ENV_IDS.index(env_id) % 2]
+    a_frames, a_infos = _rollout(env_id, action_type, seed=7)
+    b_frames, b_infos = _rollout(env_id, action_type, seed=7)
+    assert a_infos == b_infos
+    assert all((x == y).all() for x, y in zip(a_frames, b_frames))
+    c_frames, _ = _rollout(env_id, action_type, seed=8, steps=1)
+    assert not (c_frames[0] == a_frames[0]).all()  # another seed: another house
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS[::3])
+def test_pickle_and_spec_round_trip(env_id):
+    env = gym.make(env_id, **SMALL)
+    env.reset(seed=1)
+    clone = pickle.loads(pickle.dumps(env))
+    obs_a, _ = env.reset(seed=3)
+    obs_b, _ = clone.reset(seed=3)
+    assert (obs_a["rgb"] == obs_b["rgb"]).all() and obs_a["instruction"] == obs_b["instruction"]
+    spec = gym.envs.registration.EnvSpec.from_json(env.spec.to_json())
+    assert spec == env.spec
+    remade = gym.make(spec)
+    assert remade.reset(seed=3)[0]["instruction"] == obs_a["instruction"]
+
+
+def test_invalid_text_action_is_a_documented_noop():
+    env = gym.make("Legent/ComeHere-OneRoom-v0", **SMALL)
+    obs, info = env.reset(seed=2)
+    obs2, reward, terminated, truncated, info2 = env.step("move_forward(1.0")
+    assert "action_error" in info2 and "position" in info2["action_error"]
+    assert info2["agent_pose"] == info["agent_pose"] and not terminated
+    strict = gym.make("Legent/ComeHere-OneRoom-v0", strict=True, **SMALL)
+    strict.reset(seed=2)
+    from legent_gym.agent.actions import ActionParseError
+
+    with pytest.raises(ActionParseError):
+        strict.step("dance()")
+
+
+def test_continuous_and_text_agree():
+    text = gym.make("Legent/GoTo-TwoRoom-v0", **SMALL)
+    cont = gym.make("Legent/GoTo-TwoRoom-v0", action_type="continuous", **SMALL)
+    text.reset(seed=4)
+    cont.reset(seed=4)
+    for step in ["move_forward(1.2), rotate_right(-35)", "rotate_down(20)", "move_forward(0.5), rotate_right(90)"]:
+        from legent_gym.agent.actions import parse_actions
+
+        o1, *_, i1 = text.step(step)
+        o2, *_, i2 = cont.step(actions_to_dict(parse_actions(step)))
+        assert i1["agent_pose"] == pytest.approx(i2["agent_pose"], abs=1e-4)
+        assert (o1["rgb"] == o2["rgb"]).mean() > 0.99
+
+
+def test_observation_options_and_render_modes():
+    env = gym.make("Legent/PickUp-TwoRoom-v0", depth=True, segmentation=True, render_mode="rgb_array", **SMALL)
+    obs, info = env.reset(seed=5)
+    assert obs["depth"].shape == (48, 48) and obs["depth"].dtype == np.float32
+    assert obs["segmentation"].dtype == np.int32
+    assert env.observation_space.contains(obs)
+    assert env.render().shape == (256, 256, 3)
+    paper = gym.make("Legent/ComeHere-OneRoom-v0", camera="paper")
+    assert paper.reset(seed=0)[0]["rgb"].shape == (448, 448, 3)
+    assert paper.unwrapped.world.model.cam_fovy[paper.unwrapped.world.model.camera("agent_camera").id] == 120
+
+
+def test_fixed_house_options(example_scene_paths):
+    path = next(p for p in example_scene_paths if p.stem == "two_room_furnished")
+    env = gym.make("Legent/ComeHere-TwoRoom-v0", scene=str(path), **SMALL)
+    _, info = env.reset(seed=0)
+    assert info["scene_name"].startswith("two rooms")
+    fixed = gym.make("Legent/ComeHere-OneRoom-v0", house_seed=11, **SMALL)
+    seeds = {fixed.reset(seed=s)[1]["house_seed"] for s in range(3)}
+    assert seeds == {11}
+    pool = gym.make("Legent/ComeHere-OneRoom-v0", house_pool=[1, 2], **SMALL)
+    assert [pool.reset(seed=s)[1]["house_seed"] for s in range(4)] == [1, 2, 1, 2]
+    fresh = gym.make("Legent/ComeHere-OneRoom-v0", **SMALL)
+    fresh.reset(seed=0)
+    assert len({fresh.reset()[1]["house_seed"] for _ in range(3)}) == 3  # a new house every reset
+
+
+@pytest.mark.parametrize("mode", ["sync", "async"])
+def test_vector_envs(mode):
+    kwargs = {"vectorization_mode": mode}
+    if mode == "async":
+        kwargs["vector_kwargs"] = {"context": "forkserver"}
+    envs = gym.make_vec("Legent/ComeHere-OneRoom-v0", num_envs=2, **kwargs, **SMALL)
+    obs, info = envs.reset(seed=3)
+    assert obs["rgb"].shape == (2, 48, 48, 3)
+    assert len(obs["instruction"]) == 2
+    obs, reward, terminated, truncated, info = envs.step(("rotate_right(30)", "move_forward(1)"))
+    assert obs["rgb"].shape == (2, 48, 48, 3)
+    envs.close()
+
+
+def test_episode_truncates_at_25_actions():
+    env = gym.make("Legent/GoTo-FourRoom-v0", **SMALL)
+    env.reset(seed=0)
+    for _ in range(25):
+        _, _, terminated, truncated, info = env.step("rotate_right(10)")
+        if terminated:
+            pytest.skip("the goal happened to come into view")
+    assert truncated and info["n_actions"] == 25
