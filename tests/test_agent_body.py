@@ -1,0 +1,131 @@
+"""The agent's body: moves that stop at obstacles, and interactions that succeed or say why not."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from legent_gym.agent.body import Body
+from legent_gym.world.builder import build_world
+from legent_gym.world.scene import load_scene
+
+
+@pytest.fixture()
+def house(example_scene_paths):
+    scene = load_scene(next(p for p in example_scene_paths if p.stem == "two_room_furnished"))
+    world = build_world(scene)
+    return scene, world, Body(world, "agent", other="user")
+
+
+def _first(scene, asset):
+    return next(o for o in scene.objects if o.asset == asset)
+
+
+def _aim(agent, point):
+    d = np.asarray(point[:2]) - agent.position
+    yaw = math.degrees(math.atan2(d[1], d[0]))
+    pitch = math.degrees(math.atan2(agent.options.camera_height - point[2], float(np.linalg.norm(d))))
+    agent.place(agent.state.x, agent.state.y, yaw, pitch)
+
+
+def test_move_stops_at_an_obstacle_and_reports_it(house):
+    scene, world, agent = house
+    wardrobe = _first(scene, "wardrobe")
+    front = wardrobe.position[0] + world.assets[wardrobe.id].size[1] / 2  # it faces +x
+    agent.place(2.0, wardrobe.position[1], 180)  # facing the wardrobe
+    out = agent.move_forward(2.0)
+    assert out.ok and "blocked" in out.reason
+    # Stops a body radius (and a small margin) short of the wardrobe's front.
+    assert out.moved == pytest.approx(2.0 - front - agent.options.radius, abs=0.05)
+    assert agent.move_forward(1.0).moved < 0.05
+    agent.place(2.0, 2.2, 90)  # north: the bed's foot is ~0.8 m away
+    assert agent.move_forward(2.0).moved < 1.0
+
+
+def test_move_through_an_open_door_and_not_a_closed_one(house):
+    scene, world, agent = house
+    agent.place(4.0, 3.0, 0)  # in front of the inner door (x = 5), facing it
+    assert agent.move_forward(2.0).moved == pytest.approx(2.0)
+    agent.place(4.0, 3.0, 0)
+    assert agent.close("inner").ok
+    assert agent.move_forward(2.0).moved < 0.8
+
+
+def test_grab_succeeds_and_fails_with_reasons(house):
+    scene, world, agent = house
+    desk = _first(scene, "desk")
+    item = next(o for o in scene.objects if o.on == desk.id)
+    agent.place(3.3, item.position[1], 0)
+    _aim(agent, (*item.position[:2], item.position[2] + 0.02))
+    out = agent.grab()
+    assert out.ok and agent.state.held == item.id
+    again = agent.grab()
+    assert not again.ok and "hands are full" in again.reason
+    agent.rotate_right(90)
+    agent.move_forward(0.3)
+    assert np.linalg.norm(world.object_position(item.id)[:2] - agent.position) < 0.6  # carried along
+
+
+def test_grab_failures(house):
+    scene, world, agent = house
+    bed = _first(scene, "bed")
+    agent.place(2.5, 2.3, 90, 35)  # looking at the bed
+    out = agent.grab()
+    assert not out.ok and "cannot be picked up" in out.reason
+    agent.place(2.0, 2.2, 180, 0)
+    far = agent.grab(next(o.id for o in scene.objects if o.on == _first(scene, "sofa").id))
+    assert not far.ok and "out of reach" in far.reason
+    assert "no object" in agent.grab(999).reason
+    agent.place(2.5, 2.5, 0, -60)  # looking at the ceiling
+    assert "nothing to interact with" in agent.grab().reason
+    del bed
+
+
+def test_put_succeeds_and_fails_with_reasons(house):
+    scene, world, agent = house
+    assert "not holding anything" in agent.put().reason
+    desk = _first(scene, "desk")
+    item = next(o for o in scene.objects if o.on == desk.id)
+    agent.place(3.3, item.position[1], 0)
+    _aim(agent, (*item.position[:2], item.position[2] + 0.02))
+    assert agent.grab().ok
+    agent.place(2.5, 2.2, 90, 40)  # looking down at the bed
+    put = agent.put()
+    assert put.ok and put.target == _first(scene, "bed").id and agent.state.held is None
+    rest = world.object_position(item.id)
+    assert rest[2] > 0.3  # it lies on the bed, not on the floor
+    agent.place(3.3, 1.1418, 0)
+    _aim(agent, (4.3, 1.5, 0.8))
+    assert agent.grab().ok
+    agent.place(2.5, 2.5, 0, -60)
+    assert "no surface" in agent.put().reason or "nothing" in agent.put().reason
+    agent.place(2.0, 2.2, 180, 0)
+    assert "out of reach" in agent.put(_first(scene, "sofa").id).reason
+
+
+def test_open_and_close_drawers_and_doors(house):
+    scene, world, agent = house
+    dresser = _first(scene, "dresser")
+    agent.place(dresser.position[0], dresser.position[1] + 0.95, 270, 50)
+    assert agent.look().object_id == dresser.id
+    assert agent.open().ok
+    again = agent.open()
+    assert not again.ok and "already open" in again.reason
+    assert agent.close().ok
+    agent.place(4.2, 3.0, 0, 10)
+    assert agent.close("inner").ok
+    assert "already closed" in agent.close("inner").reason
+    assert agent.open("inner").ok
+    assert "no door" in agent.open("garage").reason
+    bed = _first(scene, "bed")
+    agent.place(2.5, 2.6, 90, 35)
+    out = agent.open(bed.id)
+    assert not out.ok and "nothing to open" in out.reason
+
+
+def test_pitch_is_clamped(house):
+    _, _, agent = house
+    out = agent.rotate_down(200)
+    assert agent.state.pitch == 60 and "clamped" in out.reason
