@@ -17,11 +17,11 @@ Figures are medians over repeats; treat them as orders of magnitude on shared ma
 from __future__ import annotations
 
 import argparse
-import os
-import statistics
 import sys
 import time
 from pathlib import Path
+
+from benchmarks_common import median_ms, pin_to_one_core
 
 import legent_gym  # noqa: F401  (sets MUJOCO_GL)
 from legent_gym.world.builder import BuildOptions, build_world
@@ -30,11 +30,6 @@ from legent_gym.world.scene import load_scene
 
 REPO = Path(__file__).resolve().parents[1]
 DEFAULT_SCENE = REPO / "examples" / "scenes" / "two_room_furnished.json"
-
-
-def pin_to_one_core() -> None:
-    if hasattr(os, "sched_setaffinity"):
-        os.sched_setaffinity(0, {sorted(os.sched_getaffinity(0))[0]})
 
 
 def frames_per_second(renderer: Renderer, frames: int, yaw_step: float = 7.0) -> float:
@@ -49,15 +44,6 @@ def frames_per_second(renderer: Renderer, frames: int, yaw_step: float = 7.0) ->
         world.set_body_pose("agent", x, y, i * yaw_step)
         renderer.rgb("agent")
     return frames / (time.perf_counter() - start)
-
-
-def median_ms(fn, repeats: int) -> float:
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        times.append((time.perf_counter() - start) * 1e3)
-    return statistics.median(times)
 
 
 def main(argv=None) -> int:

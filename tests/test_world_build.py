@@ -281,3 +281,20 @@ def test_domain_randomisation_is_deterministic_and_changes_colours(two_room):
         assert np.abs(images[-1].astype(int) - before).mean() > 2
     assert (images[0] == images[1]).all()
     assert not (images[0] == images[2]).all()
+
+
+@pytest.mark.parametrize("yaw", [0, 37, 200])
+def test_camera_pitch_looks_down_with_the_image_upright(yaw):
+    """Looking down at the floor, the top of the image sees farther than the bottom."""
+    scene = validate_scene({
+        "rooms": [{"id": "r", "type": "test", "name": "room", "polygon": [[-5, -5], [5, -5], [5, 5], [-5, 5]]}],
+        "agent": {"position": [0, 0], "yaw": yaw},
+    })
+    world = build_world(scene)
+    world.set_body_pose("agent", 0, 0, yaw, pitch_deg=45)
+    mujoco.mj_forward(world.model, world.data)
+    depth = Renderer(world, 33, 33).depth("agent")
+    height = world.options.agent.camera_height
+    assert depth[16, 16] == pytest.approx(height / math.sin(math.radians(45)), rel=0.03)
+    assert depth[2, 16] > depth[16, 16] > depth[30, 16]
+    assert depth[16, 2] == pytest.approx(depth[16, 30], rel=0.02)  # level: left and right alike

@@ -293,7 +293,13 @@ class ActionParseError(ValueError):
         self.text = text
         self.position = position
         self.reason = reason
-        super().__init__(message if message is not None else f"{reason} at position {position}")
+        self.message = message if message is not None else f"{reason} at position {position}"
+        super().__init__(self.message)
+
+    def __reduce__(self):
+        # The default reduce would call cls(message) and fail; errors must survive pickling
+        # to cross process boundaries (vector envs, pytest-xdist).
+        return (type(self), (self.text, self.position, self.reason, self.message))
 
 
 # --------------------------------------------------------------------------------------
@@ -720,11 +726,14 @@ def _clip_tilt(
     clipped = min(max(action.degrees, -bound), bound)
     why = ""
     if pitch is not None:
-        # Shorten the tilt so the head ends inside pitch_range (never lengthen it).
+        # Shorten the tilt so the head does not leave pitch_range. Only shorten: never
+        # lengthen it or flip its sign (a head already outside the range may move back).
         low, high = limits.pitch_range
-        end = pitch + clipped
-        if end > high or end < low:
-            clipped = min(max(end, low), high) - pitch
+        if clipped > 0 and pitch + clipped > high:
+            clipped = max(high - pitch, 0.0)
+            why = f" (pitch limited to {float(low)!r}..{float(high)!r} degrees)"
+        elif clipped < 0 and pitch + clipped < low:
+            clipped = min(low - pitch, 0.0)
             why = f" (pitch limited to {float(low)!r}..{float(high)!r} degrees)"
     if clipped == action.degrees:
         return action, None

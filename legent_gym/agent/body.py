@@ -28,6 +28,7 @@ DEFAULT_REACH = 1.5
 PITCH_RANGE = (-60.0, 60.0)  # degrees; + looks down
 SETTLE_SECONDS = 1.0
 HAND_FORWARD, HAND_HEIGHT = 0.35, 1.0
+_COLLISION_GROUPS = np.array([0, 0, 0, 1, 0, 0], dtype=np.uint8)  # rays see collision geoms only
 
 
 @dataclass
@@ -80,6 +81,11 @@ class Body:
         self.state = BodyState(spawn.position[0], spawn.position[1], spawn.yaw)
         self._body_id = world.model.body(name).id
         self._other = other
+        r = self.options.radius
+        self._lateral_offsets = [(lat, math.sqrt(max(r * r - lat * lat, 0.0))) for lat in (-r, -r / 2, 0.0, r / 2, r)]
+        self._ray_heights = (0.06, 0.5, min(1.2, self.options.height - 0.05))
+        self._ray_start = np.zeros(3)
+        self._geomid = np.zeros(1, dtype=np.int32)
         self._sync()
 
     # -- pose ------------------------------------------------------------------------------
@@ -109,28 +115,31 @@ class Body:
 
     # -- locomotion ------------------------------------------------------------------------
     def free_distance(self, direction_deg: float, distance: float) -> float:
-        """How far the body can go along a heading before touching anything (<= distance)."""
+        """How far the body can go along a heading before touching anything (<= distance).
+
+        Rays at three heights and five lateral offsets across the body's width sweep the
+        corridor it would pass through; each starts a little behind the body's front, so
+        that an obstacle already touching its side is seen.
+        """
         if distance <= 0:
             return 0.0
         yaw = math.radians(direction_deg)
-        forward = np.array([math.cos(yaw), math.sin(yaw), 0.0])
-        left = np.array([-forward[1], forward[0], 0.0])
+        fx, fy = math.cos(yaw), math.sin(yaw)
+        forward = np.array([fx, fy, 0.0])
         r = self.options.radius
         model, data = self.world.model, self.world.data
-        groups = np.zeros(6, dtype=np.uint8)
-        groups[GROUP_COLLISION] = 1
-        best = distance
         exclude = self.world.object_body[self.state.held] if self.state.held is not None else -1
-        geomid = np.zeros(1, dtype=np.int32)
-        for height in (0.05, 0.4, 0.9, min(1.5, self.options.height - 0.05)):
-            for lateral in (-r, -r / 2, 0.0, r / 2, r):
-                start = np.array([self.state.x, self.state.y, height]) + left * lateral
-                # Start a little behind the front of the body, so that an obstacle already
-                # touching the body's side is seen.
-                reach_front = math.sqrt(max(r * r - lateral * lateral, 0.0))
-                dist = mujoco.mj_ray(model, data, start, forward, groups, 1, exclude, geomid)
-                if dist >= 0:
-                    best = min(best, dist - reach_front - 0.02)
+        geomid = self._geomid
+        start = self._ray_start
+        best = distance
+        for lateral, front in self._lateral_offsets:
+            start[0] = self.state.x - fy * lateral
+            start[1] = self.state.y + fx * lateral
+            for height in self._ray_heights:
+                start[2] = height
+                dist = mujoco.mj_ray(model, data, start, forward, _COLLISION_GROUPS, 1, exclude, geomid)
+                if 0 <= dist < best + front + 0.02:
+                    best = dist - front - 0.02
         other = self._other_position()
         if other is not None:
             best = min(best, _circle_hit(self.position, forward[:2], other, r + self._other_radius(), distance))

@@ -224,7 +224,7 @@ def dict_to_actions(action_dict: Mapping[str, Any]) -> Step:
     if not isinstance(speech, str):
         raise ValueError(f"'speak' must be a str, got {type(speech).__name__}")
     if speech:
-        step.append(Speak(speech))
+        step.append(Speak(str(speech)))  # a plain str, even from np.str_
     if _code(action_dict.get("finish", 0), "finish", 2):
         step.append(Finish())
     return tuple(step)

@@ -31,6 +31,34 @@ class TaskContext:
     nav: NavGrid
     speech: list[str] = field(default_factory=list)  # what the agent said this episode
     finished: bool = False
+    # Distance fields to goal points, and standing points of objects: goals stay put
+    # within an episode, so each costs one Dijkstra, and every later query is a lookup.
+    _fields: dict = field(default_factory=dict, repr=False)
+    _stands: dict = field(default_factory=dict, repr=False)
+
+    def geodesic_to(self, point) -> float:
+        """Geodesic metres from the agent to a floor point (inf if unreachable)."""
+        key = (round(float(point[0]), 2), round(float(point[1]), 2))
+        grid = self._fields.get(key)
+        if grid is None:
+            grid = self._fields[key] = self.nav.distance_field(key)
+        here = self.nav.nearest_walkable(tuple(self.agent.position))
+        if here is None:
+            return math.inf
+        return float(grid[self.nav.to_cell(here)])
+
+    def distance_to_object(self, object_id: int) -> float:
+        """Geodesic metres from the agent to where it could reach the object."""
+        if self.agent.state.held == object_id:
+            return 0.0
+        pos = self.world.object_position(object_id)
+        key = (object_id, round(float(pos[0]), 1), round(float(pos[1]), 1))
+        if key not in self._stands:
+            self._stands[key] = self.nav.standing_point(object_id,
+                                                        reach=self.agent.reach * 0.8,
+                                                        start=tuple(self.agent.position))
+        stand = self._stands[key]
+        return self.geodesic_to(stand) if stand is not None else math.inf
 
     def name_of(self, object_id: int) -> str:
         return self.world.assets[object_id].names[0]

@@ -25,15 +25,11 @@ def _said(ctx: TaskContext, names: list[str]) -> bool:
 
 
 def _goal_distance(ctx: TaskContext, point) -> float:
-    return float(ctx.nav.distance(tuple(ctx.agent.position), (float(point[0]), float(point[1]))))
+    return ctx.geodesic_to(point)
 
 
 def _object_distance(ctx: TaskContext, object_id: int) -> float:
-    """Geodesic metres from the agent to where it could reach the object."""
-    if ctx.agent.state.held == object_id:
-        return 0.0
-    stand = ctx.nav.standing_point(object_id, reach=ctx.agent.reach * 0.8, start=tuple(ctx.agent.position))
-    return _goal_distance(ctx, stand) if stand is not None else float("inf")
+    return ctx.distance_to_object(object_id)
 
 
 def _rests_on(ctx: TaskContext, item: int, host: int) -> bool:

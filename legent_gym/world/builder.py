@@ -123,15 +123,17 @@ def yaw_quat(yaw_deg: float) -> np.ndarray:
 def camera_quat(yaw_deg: float, pitch_deg: float) -> np.ndarray:
     """Orientation of a MuJoCo camera (looks along its -z, up +y) for a heading and pitch.
 
-    yaw 0 looks along world +x; positive pitch looks down (LEGENT's rotate_down).
+    yaw 0 looks along world +x; positive pitch looks down (LEGENT's rotate_down). Plain
+    scalar maths: this runs several times per step.
     """
     yaw, pitch = math.radians(yaw_deg), math.radians(pitch_deg)
-    forward = np.array([math.cos(yaw) * math.cos(pitch), math.sin(yaw) * math.cos(pitch), -math.sin(pitch)])
-    right = np.array([math.sin(yaw), -math.cos(yaw), 0.0])
-    up = np.cross(right, forward)
-    rot = np.column_stack([right, up, -forward])  # camera x, y, z axes in world
+    cy, sy, cp, sp = math.cos(yaw), math.sin(yaw), math.cos(pitch), math.sin(pitch)
+    # Columns: camera x (right), y (up), z (backward) in world coordinates.
+    mat = np.array([sy, sp * cy, -cp * cy,
+                    -cy, sp * sy, -cp * sy,
+                    0.0, cp, sp])
     quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, rot.reshape(-1))
+    mujoco.mju_mat2Quat(quat, mat)
     return quat
 
 

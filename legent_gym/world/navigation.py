@@ -290,6 +290,7 @@ class NavGrid:
         self._index: np.ndarray | None = None
         self._cells: np.ndarray | None = None
         self._fields: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
+        self._open: np.ndarray | None = None
         self.cache_size = 32
 
     # -- construction -------------------------------------------------------------------
@@ -537,12 +538,9 @@ class NavGrid:
 
     def _wall_free(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Segments a[i] -> b[i] (grid coordinates) that cross no wall cell."""
-        d = b - a
-        m = int(np.ceil(np.hypot(d[:, 0], d[:, 1]).max() * 2.0)) + 1 if len(a) else 1
-        t = np.linspace(0.0, 1.0, m + 1)[None, :]
-        sx = np.clip(np.floor(a[:, 0:1] + d[:, 0:1] * t).astype(np.int64), 0, self.shape[1] - 1)
-        sy = np.clip(np.floor(a[:, 1:2] + d[:, 1:2] * t).astype(np.int64), 0, self.shape[0] - 1)
-        return ~self.walls[sy, sx].any(axis=1)
+        if self._open is None:
+            self._open = ~self.walls
+        return _segments_clear(self._open, a, b)
 
     def footprint(self, object_id: int) -> np.ndarray:
         """World corners (4, 2) of an object's footprint."""
@@ -550,11 +548,17 @@ class NavGrid:
             raise KeyError(f"no footprint for object {object_id} (unknown id or asset size)")
         return self.footprints[object_id]
 
-    def reach_cells(self, corners: np.ndarray, reach: float, component: int | None = None
-                    ) -> tuple[np.ndarray, np.ndarray]:
+    def can_reach(self, corners: np.ndarray, reach: float = 1.0, component: int | None = None) -> bool:
+        """Whether some walkable cell (of ``component``) is within ``reach`` of the
+        rectangle ``corners`` with no wall between."""
+        return len(self.reach_cells(corners, reach, component, first_only=True)[0]) > 0
+
+    def reach_cells(self, corners: np.ndarray, reach: float, component: int | None = None, *,
+                    first_only: bool = False) -> tuple[np.ndarray, np.ndarray]:
         """Walkable cells (N, 2 as row, col) within ``reach`` metres of the rectangle
         ``corners`` and in line of sight of it (no wall between), with their distances;
-        sorted nearest first. ``component`` restricts to one connected component."""
+        sorted nearest first. ``component`` restricts to one connected component;
+        ``first_only`` returns just the nearest such cell (faster)."""
         c = np.asarray(corners, dtype=np.float64)
         lo, hi = c.min(axis=0) - reach, c.max(axis=0) + reach
         win = self._raster.window(lo[0], lo[1], hi[0], hi[1])
@@ -582,8 +586,15 @@ class NavGrid:
         # from a wall face, inside the wall's raster band.
         gap = np.hypot(*(a - b).T)
         b = b + (a - b) * np.minimum(1.0, 1.5 / np.maximum(gap, 1e-9))[:, None]
-        clear = self._wall_free(a, b) if len(a) else np.zeros(0, dtype=bool)
         cells = np.column_stack([rr + sl[0].start, cc + sl[1].start])
+        if first_only:
+            for k in range(0, len(a), 64):  # nearest first: usually the first chunk has one
+                clear = self._wall_free(a[k:k + 64], b[k:k + 64])
+                if clear.any():
+                    j = k + int(np.argmax(clear))
+                    return cells[j:j + 1], dist[j:j + 1]
+            return empty
+        clear = self._wall_free(a, b) if len(a) else np.zeros(0, dtype=bool)
         return cells[clear], dist[clear]
 
     def standing_point(self, object_id: int | np.ndarray, reach: float = 1.0,
@@ -609,36 +620,36 @@ class NavGrid:
 
 
 def _segments_clear(mask: np.ndarray, a: np.ndarray, targets: np.ndarray) -> np.ndarray:
-    """Whether each segment ``a -> targets[i]`` (grid coordinates: x = column, y = row)
-    lies in cells where ``mask`` is true. Cells touched only at a corner point are ignored."""
+    """Whether each segment ``a[i] -> targets[i]`` (grid coordinates: x = column, y = row;
+    ``a`` may be one point for all) lies in cells where ``mask`` is true: every cell the
+    segment enters is found from its crossings of the grid lines (an exact supercover,
+    vectorised). Cells touched only at a corner point are ignored."""
     h, w = mask.shape
     t = np.asarray(targets, dtype=np.float64).reshape(-1, 2)
-    ok = np.ones(len(t), dtype=bool)
+    s = np.broadcast_to(np.asarray(a, dtype=np.float64), t.shape)
 
     def lookup(rows: np.ndarray, cols: np.ndarray, valid: np.ndarray) -> np.ndarray:
         inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
         vals = mask[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)] & inside
         return (vals | ~valid).all(axis=-1)
 
-    ends = np.vstack([a[None, :], t])
-    end_ok = lookup(np.floor(ends[:, 1]).astype(np.int64)[:, None], np.floor(ends[:, 0]).astype(np.int64)[:, None],
-                    np.ones((len(ends), 1), dtype=bool))
-    ok &= end_ok[1:] & end_ok[0]
+    one = np.ones((len(t), 1), dtype=bool)
+    ok = lookup(np.floor(s[:, 1:2]).astype(np.int64), np.floor(s[:, 0:1]).astype(np.int64), one)
+    ok &= lookup(np.floor(t[:, 1:2]).astype(np.int64), np.floor(t[:, 0:1]).astype(np.int64), one)
     for axis in (0, 1):  # crossings of vertical (x = k) then horizontal (y = k) grid lines
         other = 1 - axis
-        lo = np.minimum(a[axis], t[:, axis])
-        hi = np.maximum(a[axis], t[:, axis])
+        lo = np.minimum(s[:, axis], t[:, axis])
+        hi = np.maximum(s[:, axis], t[:, axis])
         first = np.floor(lo) + 1.0
-        count = (np.ceil(hi) - first).astype(np.int64)  # lines strictly inside (lo, hi)
-        count = np.maximum(count, 0)
+        count = np.maximum((np.ceil(hi) - first).astype(np.int64), 0)  # lines inside (lo, hi)
         kmax = int(count.max()) if len(count) else 0
         if kmax == 0:
             continue
         ks = first[:, None] + np.arange(kmax)[None, :]
         valid = np.arange(kmax)[None, :] < count[:, None]
-        d = t[:, axis] - a[axis]
-        frac = (ks - a[axis]) / np.where(np.abs(d) < 1e-12, 1.0, d)[:, None]
-        cross = a[other] + frac * (t[:, other] - a[other])[:, None]
+        d = t[:, axis] - s[:, axis]
+        frac = (ks - s[:, axis:axis + 1]) / np.where(np.abs(d) < 1e-12, 1.0, d)[:, None]
+        cross = s[:, other:other + 1] + frac * (t[:, other] - s[:, other])[:, None]
         line = np.floor(cross).astype(np.int64)
         k = ks.astype(np.int64)
         if axis == 0:

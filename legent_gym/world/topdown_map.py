@@ -154,7 +154,9 @@ def _draw_door(img, view, wall, door, thick) -> None:
 
 
 def _draw_objects(img: np.ndarray, view: _View, scene: Scene, labels: bool) -> None:
-    floor = [o for o in scene.objects if is_floor_furniture(o) or (o.kind == "static")]
+    # Furniture (and static pieces standing on it, like a tv) as rectangles; the rest as dots.
+    floor = [o for o in scene.objects if is_floor_furniture(o) or o.kind == "static"]
+    drawn = {o.id for o in floor}
     for obj in floor:
         fp = object_footprint(scene, obj)
         if fp is None:
@@ -172,7 +174,7 @@ def _draw_objects(img: np.ndarray, view: _View, scene: Scene, labels: bool) -> N
             if fp is not None:
                 _label(img, _asset_name(obj.asset), view.pt(fp.mean(axis=0)), 0.35)
     for obj in scene.objects:
-        if obj in floor:
+        if obj.id in drawn:
             continue
         p = view.pt(obj.position[:2])
         cv2.circle(img, p, 4, SMALL, -1, cv2.LINE_AA)

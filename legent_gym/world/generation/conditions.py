@@ -133,7 +133,8 @@ class HouseSpec(BaseModel):
     ``require_on`` small objects that must rest on a receptacle category; ``object_counts``
     exact counts per category; ``density`` the mean number of small objects per receptacle
     surface (at most ``max_per_surface``); ``min_user_distance`` the least distance between
-    the agent and user spawns (metres).
+    the agent and user spawns (metres). Doors are open while a house is built and checked;
+    ``door_openness`` is then given to every door leaf (0 closed, 1 open).
     """
 
     model_config = ConfigDict(extra="forbid")

@@ -45,6 +45,9 @@ WALL_GAP = 0.03
 GROUP_GAP = 0.05
 #: Depth of the no-tall-furniture zone in front of a window.
 WINDOW_DEPTH = 0.35
+#: How far above a window's sill a piece may reach and still stand in front of it (a bed's
+#: headboard may; a wardrobe may not).
+WINDOW_TOLERANCE = 0.3
 AGENT_RADIUS = 0.25
 #: Reach used while furnishing: a little under the 1.0 m of the final check.
 REACH = 0.9
@@ -500,8 +503,7 @@ class Furnisher:
         return np.asarray(poses, dtype=np.float64).reshape(-1, 4)
 
     # -- checking -----------------------------------------------------------------------
-    def valid(self, space: RoomSpace, rects: np.ndarray, fronts: np.ndarray, tall: np.ndarray,
-              group_members: int) -> np.ndarray:
+    def valid(self, space: RoomSpace, rects: np.ndarray, fronts: np.ndarray, tall: np.ndarray) -> np.ndarray:
         """rects/fronts: (C, M, 4) per candidate and member; tall: (M,) member heights.
         Returns (C,) whether every member of the candidate group fits."""
         c, m = rects.shape[:2]
@@ -520,7 +522,7 @@ class Furnisher:
         ok &= ~overlaps(flat, space.keepouts).any(axis=1)
         if len(space.windows):
             heights = np.tile(tall, c)
-            hit = overlaps(flat, space.windows[:, :4]) & (heights[:, None] > space.windows[None, :, 4])
+            hit = overlaps(flat, space.windows[:, :4]) & (heights[:, None] > space.windows[None, :, 4] + WINDOW_TOLERANCE)
             ok &= ~hit.any(axis=1)
         return ok.reshape(c, m).all(axis=1)
 
@@ -544,7 +546,7 @@ class Furnisher:
         xs, ys, qs, pref = poses[:, 0], poses[:, 1], poses[:, 2].astype(np.int64), poses[:, 3]
         rects, fronts = self._member_rects(allm, xs, ys, qs)
         tall = np.array([m.model.size[2] for m in allm])
-        ok = self.valid(space, rects, fronts, tall, len(allm))
+        ok = self.valid(space, rects, fronts, tall)
         if not ok.any():
             return False
         order = self._rank(space, model, rects[:, 0], qs, pref, ok)

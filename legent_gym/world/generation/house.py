@@ -223,7 +223,9 @@ def _floor_plan(spec: HouseSpec, types: list[str], rng: np.random.Generator) -> 
         try:
             grid = plan_grid(types, rng, cell_range=spec.cell_size, area=spec.area)
             fp = build_floorplan(grid, types, wall_height=spec.wall_height)
-            place_doors(fp, rng, openness=spec.door_openness)
+            # Doors are open while the house is built and checked; ``door_openness`` is
+            # applied to the finished house (see generate_house).
+            place_doors(fp, rng, openness=1.0)
             if spec.windows:
                 place_windows(fp, rng)
             return fp
@@ -352,7 +354,7 @@ def attempt_house(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
     component = _main_component(nav, fp, furn.spaces)
 
     def reachable(piece: Placed, rec) -> bool:
-        return len(nav.reach_cells(receptacle_corners(piece, rec), REACH, component)[0]) > 0
+        return nav.can_reach(receptacle_corners(piece, rec), REACH, component)
 
     counts = dict(c.small_counts)
     for cat, n in c.small_least.items():
@@ -421,12 +423,21 @@ def generate_house(seed: int, spec: Any = None, **conditions: Any) -> Scene:
     for _ in range(hs.max_attempts):
         rng = master.spawn(1)[0]
         try:
-            return attempt_house(seed, hs, c, catalog, rng)
+            return _with_door_openness(attempt_house(seed, hs, c, catalog, rng), hs.door_openness)
         except AttemptFailed as err:
             failures.append(err)
         if time.perf_counter() - started > hs.time_limit:
             break
     raise GenerationError(_summary(failures, time.perf_counter() - started))
+
+
+def _with_door_openness(scene: Scene, openness: float) -> Scene:
+    """Set the leaves of the (validated, open) doors to ``openness``."""
+    if openness != 1.0:
+        for door in scene.doors:
+            if door.leaf:
+                door.openness = openness
+    return scene
 
 
 def _summary(failures: list[AttemptFailed], elapsed: float) -> str:

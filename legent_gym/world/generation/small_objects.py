@@ -75,12 +75,22 @@ class SmallPlaced:
     receptacle: int
 
 
+def open_receptacle(model, rec: Receptacle) -> bool:
+    """A receptacle one can put things on without opening anything: on the base link (a
+    drawer's inside moves with the drawer), and not behind a hinged door (a fridge's
+    shelves) unless it is the top."""
+    if rec.link != "base":
+        return False
+    has_doors = any(link.joint is not None and link.joint.kind == "hinge" for link in model.links)
+    return not has_doors or rec.height >= float(model.size[2]) - 0.05
+
+
 def surfaces_of(pieces: list[Placed]) -> list[Surface]:
-    """Every base-link receptacle of every piece, with what already stands on it."""
+    """Every open receptacle of every piece, with what already stands on it."""
     out = []
     for i, p in enumerate(pieces):
         for k, rec in enumerate(p.model.receptacles):
-            if rec.link != "base":
+            if not open_receptacle(p.model, rec):
                 continue
             s = Surface(i, k, rec)
             for q in pieces:

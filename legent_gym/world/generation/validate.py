@@ -105,10 +105,8 @@ def check_objects_reachable(scene: Scene, nav: NavGrid, component: int, feet: di
     """Floor furniture, and every receptacle something rests on, need a standing point."""
     out = []
     for obj in scene.objects:
-        if is_floor_furniture(obj) and obj.id in feet:
-            cells, _ = nav.reach_cells(feet[obj.id], reach, component)
-            if len(cells) == 0:
-                out.append(f"{names[obj.id]} cannot be reached from the agent spawn")
+        if is_floor_furniture(obj) and obj.id in feet and not nav.can_reach(feet[obj.id], reach, component):
+            out.append(f"{names[obj.id]} cannot be reached from the agent spawn")
     seen = set()
     for obj in scene.objects:
         if obj.on is None or obj.on not in names:
@@ -118,8 +116,7 @@ def check_objects_reachable(scene: Scene, nav: NavGrid, component: int, feet: di
         if found is None or (obj.on, found[0]) in seen:
             continue
         seen.add((obj.on, found[0]))
-        cells, _ = nav.reach_cells(found[1], reach, component)
-        if len(cells) == 0:
+        if not nav.can_reach(found[1], reach, component):
             out.append(f"receptacle {found[0]} of {names[obj.on]} holds objects but cannot be reached")
     return out
 

@@ -1,0 +1,89 @@
+"""Env step and reset speed, next to the raw render rate of the same scene.
+
+    python benchmarks/step.py [--ids Legent/ComeHere-TwoRoom-v0,...] [--steps 1000] [--size 96]
+
+For each env id, on one core: steps/s with random actions (a random move, turn and tilt
+each step, as text actions), the raw render rate of the same house measured in the same
+run (``Renderer.rgb`` of the agent camera alone, replaying the camera poses the steps
+produced: the floor for a step's cost), their ratio,
+and the median time of a reset with a new house (generation + build + navigation grid +
+task + first frame).
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+
+import gymnasium as gym
+import numpy as np
+from benchmarks_common import pin_to_one_core
+
+import legent_gym
+
+
+def random_actions(n: int, seed: int) -> list[str]:
+    rng = np.random.default_rng(seed)
+    out = []
+    for _ in range(n):
+        out.append(f"move_forward({rng.uniform(0, 1):.2f}), rotate_right({rng.uniform(-90, 90):.1f}), "
+                   f"rotate_down({rng.uniform(-10, 10):.1f})")
+    return out
+
+
+def bench(env_id: str, steps: int, size: int, resets: int) -> dict:
+    env = gym.make(env_id, width=size, height=size)
+    env.reset(seed=0)
+    base = env.unwrapped
+    reset_ms = []
+    for i in range(resets):
+        start = time.perf_counter()
+        env.reset(seed=100 + i)
+        reset_ms.append((time.perf_counter() - start) * 1e3)
+
+    actions = random_actions(steps, 1)
+    env.reset(seed=1)
+    for a in actions[:20]:
+        env.step(a)
+    poses = []
+    start = time.perf_counter()
+    for a in actions:
+        _, _, terminated, truncated, info = env.step(a)
+        poses.append(info["agent_pose"])
+        if terminated or truncated:
+            # Keep the house: a reset here would measure generation, not stepping.
+            base.ctx.finished = False
+    step_rate = steps / (time.perf_counter() - start)
+
+    # The reference: the raw render of the same house from the same camera poses.
+    renderer, world = base._ensure_renderer(), base.world
+    start = time.perf_counter()
+    for x, y, yaw, pitch in poses:
+        world.set_body_pose("agent", x, y, yaw, pitch)
+        renderer.rgb("agent")
+    render_rate = steps / (time.perf_counter() - start)
+    env.close()
+    return {"steps_per_s": step_rate, "render_per_s": render_rate, "ratio": step_rate / render_rate,
+            "reset_ms": statistics.median(reset_ms), "resets_per_s": 1000 / statistics.median(reset_ms)}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--ids", default=",".join(legent_gym.ENV_IDS))
+    parser.add_argument("--steps", type=int, default=1000)
+    parser.add_argument("--resets", type=int, default=20)
+    parser.add_argument("--size", type=int, default=96)
+    args = parser.parse_args(argv)
+    pin_to_one_core()
+    print(f"{'env id':36s} {'steps/s':>8} {'render/s':>9} {'ratio':>6} {'reset ms':>9} {'resets/s':>9}")
+    for env_id in args.ids.split(","):
+        r = bench(env_id, args.steps, args.size, args.resets)
+        print(f"{env_id:36s} {r['steps_per_s']:>8.0f} {r['render_per_s']:>9.0f} {r['ratio']:>6.2f} "
+              f"{r['reset_ms']:>9.1f} {r['resets_per_s']:>9.1f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
