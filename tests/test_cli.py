@@ -70,3 +70,30 @@ def test_installed_entry_point(tmp_path):
                             capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stderr
     assert "80 objects" in result.stdout
+
+
+def test_generate_single_house_with_map(tmp_path, capsys):
+    out, png = tmp_path / "house.json", tmp_path / "house.png"
+    assert main(["generate", "--preset", "TwoRoom", "--seed", "3", "--out", str(out), "--map", str(png)]) == 0
+    assert main(["validate", str(out)]) == 0
+    img = cv2.imread(str(png))
+    assert img is not None and img.std() > 3
+    first = out.read_text()
+    assert main(["generate", "--preset", "TwoRoom", "--seed", "3", "--out", str(out)]) == 0
+    assert out.read_text() == first  # deterministic
+
+
+def test_generate_batch_resumes(tmp_path):
+    out_dir = tmp_path / "houses"
+    assert main(["generate", "--preset", "OneRoom", "--seed", "0", "--count", "3", "--out-dir", str(out_dir)]) == 0
+    files = sorted(out_dir.glob("*.json"))
+    assert len(files) == 3
+    files[1].unlink()
+    assert main(["generate", "--preset", "OneRoom", "--seed", "0", "--count", "3", "--out-dir", str(out_dir)]) == 0
+    assert len(sorted(out_dir.glob("*.json"))) == 3
+
+
+def test_generate_impossible_request_is_a_clear_error(tmp_path, capsys):
+    assert main(["generate", "--preset", "Castle", "--out", str(tmp_path / "x.json")]) == 2
+    assert "Castle" in capsys.readouterr().err
+    assert not (tmp_path / "x.json").exists()
