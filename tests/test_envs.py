@@ -170,3 +170,19 @@ def test_episode_truncates_at_25_actions():
         if terminated:
             pytest.skip("the goal happened to come into view")
     assert truncated and info["n_actions"] == 25
+
+
+def test_env_docs_are_generated_from_the_docstring():
+    """docs/envs/household.md is what docs/gen_env_docs.py writes (regenerate after edits)."""
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "docs" / "gen_env_docs.py"
+    spec = importlib.util.spec_from_file_location("gen_env_docs", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    text = module.page()
+    for section in ("Description", "Action Space", "Observation Space", "Rewards", "Episode End",
+                    "Arguments", "Version History"):
+        assert f"## {section}" in text
+    assert (path.parent / "envs" / "household.md").read_text() == text
