@@ -1,1 +1,5 @@
-"""legent_gym.wrappers (see the package docstring)."""
+"""Wrappers: ecosystem adapters (stable-baselines3), and later expert and history wrappers."""
+
+from legent_gym.wrappers.sb3 import FlatActions, InstructionTokens, tokenize
+
+__all__ = ["FlatActions", "InstructionTokens", "tokenize"]

@@ -1,0 +1,77 @@
+"""Wrappers that make the environments usable by stable-baselines3 and similar libraries.
+
+SB3 cannot take ``Text`` spaces. :class:`InstructionTokens` turns every Text observation
+into a fixed-length integer Box (a hashing word tokenizer: stable across processes, no
+vocabulary file), and :class:`FlatActions` offers a flat ``Box(4)`` in [-1, 1] mapped onto
+the env's actions: move forward, turn, tilt, and interact (when the fourth value > 0.5).
+
+    env = FlatActions(InstructionTokens(gym.make("Legent/ComeHere-OneRoom-v0", reward="dense")))
+    PPO("MultiInputPolicy", env).learn(10_000)
+"""
+
+from __future__ import annotations
+
+import re
+import zlib
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from legent_gym.agent.actions import format_number
+
+_WORD = re.compile(r"[a-z0-9']+")
+
+
+def tokenize(text: str, vocab_size: int, max_tokens: int) -> np.ndarray:
+    """Word ids in [1, vocab_size) (0 pads), by a stable hash of each lower-cased word."""
+    ids = [1 + zlib.crc32(w.encode()) % (vocab_size - 1) for w in _WORD.findall(text.lower())][:max_tokens]
+    out = np.zeros(max_tokens, dtype=np.int64)
+    out[: len(ids)] = ids
+    return out
+
+
+class InstructionTokens(gym.ObservationWrapper):
+    """Every Text observation becomes a Box of ``max_tokens`` word ids (0 = padding)."""
+
+    def __init__(self, env: gym.Env, vocab_size: int = 1024, max_tokens: int = 16):
+        super().__init__(env)
+        self.vocab_size, self.max_tokens = vocab_size, max_tokens
+        obs_space = {}
+        for key, space in env.observation_space.spaces.items():
+            if isinstance(space, spaces.Text):
+                obs_space[key] = spaces.Box(0, vocab_size - 1, (max_tokens,), np.int64)
+            else:
+                obs_space[key] = space
+        self.observation_space = spaces.Dict(obs_space)
+        self._text_keys = [k for k, s in env.observation_space.spaces.items() if isinstance(s, spaces.Text)]
+
+    def observation(self, observation):
+        out = dict(observation)
+        for key in self._text_keys:
+            out[key] = tokenize(observation[key], self.vocab_size, self.max_tokens)
+        return out
+
+
+class FlatActions(gym.ActionWrapper):
+    """A ``Box(-1, 1, (4,))`` action: [move, turn right, tilt down, interact].
+
+    move -1..1 maps to 0..max metres; turn and tilt to +-max degrees; interact happens when
+    the fourth value exceeds 0.5. Works over text and continuous action types.
+    """
+
+    def __init__(self, env: gym.Env):
+        super().__init__(env)
+        self.action_space = spaces.Box(-1.0, 1.0, (4,), np.float32)
+        self.limits = env.unwrapped.limits
+
+    def action(self, action):
+        a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
+        move = (a[0] + 1.0) / 2.0 * self.limits.max_move
+        turn = a[1] * self.limits.max_rotate_right
+        tilt = a[2] * self.limits.max_rotate_down
+        parts = [f"move_forward({format_number(round(move, 3))})", f"rotate_right({format_number(round(turn, 2))})",
+                 f"rotate_down({format_number(round(tilt, 2))})"]
+        if a[3] > 0.5:
+            parts.append("interact()")
+        return ", ".join(parts)
