@@ -1,0 +1,79 @@
+"""House generation speed: houses/s for 1, 2, 4 and 6 rooms, split into its stages.
+
+    python benchmarks/generation.py [--houses 30]
+
+For each room count, on one core: median milliseconds of generation (scene JSON), MuJoCo
+build (scene -> compiled model), and the navigation grid; their sum and houses/s; then the
+median shortest-path query time (random walkable start and goal pairs on the same houses).
+The reference measured in the same run is the MuJoCo compile of the same scenes alone.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+
+import numpy as np
+
+import legent_gym  # noqa: F401
+from benchmarks_common import pin_to_one_core
+from legent_gym.world.builder import build_spec
+from legent_gym.world.generation import generate_house
+from legent_gym.world.navigation import NavGrid
+
+SPECS = {1: "OneRoom", 2: "TwoRoom", 4: "FourRoom", 6: {"n_rooms": 6}}
+
+
+def timed(fn):
+    start = time.perf_counter()
+    out = fn()
+    return out, (time.perf_counter() - start) * 1e3
+
+
+def bench(n_rooms: int, houses: int) -> dict:
+    spec = SPECS[n_rooms]
+    gen, build, compile_only, nav, paths = [], [], [], [], []
+    rng = np.random.default_rng(0)
+    for seed in range(houses):
+        if isinstance(spec, str):
+            scene, ms = timed(lambda s=seed: generate_house(s, spec))
+        else:
+            scene, ms = timed(lambda s=seed: generate_house(s, **spec))
+        gen.append(ms)
+        (model_spec, _), ms_spec = timed(lambda sc=scene: build_spec(sc))
+        _, ms_compile = timed(model_spec.compile)
+        build.append(ms_spec + ms_compile)
+        compile_only.append(ms_compile)
+        grid, ms = timed(lambda sc=scene: NavGrid.from_scene(sc))
+        nav.append(ms)
+        cells = np.argwhere(grid.walkable)
+        for _ in range(20):
+            a, b = cells[rng.integers(len(cells), size=2)]
+            _, ms = timed(lambda a=a, b=b: grid.path(grid.to_world(a), grid.to_world(b)))
+            paths.append(ms)
+    med = statistics.median
+    total = med([g + b + n for g, b, n in zip(gen, build, nav)])
+    return {"gen": med(gen), "build": med(build), "compile": med(compile_only), "nav": med(nav),
+            "total": total, "houses_per_s": 1000 / total, "path": med(paths), "path_p95": float(np.percentile(paths, 95))}
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--houses", type=int, default=30)
+    parser.add_argument("--rooms", default="1,2,4,6")
+    args = parser.parse_args(argv)
+    pin_to_one_core()
+    generate_house(0, "OneRoom")  # warm caches (asset models) before timing
+    print(f"{'rooms':>5} {'gen ms':>7} {'build ms':>9} {'(compile)':>9} {'nav ms':>7} {'total ms':>9} "
+          f"{'houses/s':>9} {'path ms':>8} {'p95':>6}")
+    for n in (int(x) for x in args.rooms.split(",")):
+        r = bench(n, args.houses)
+        print(f"{n:>5} {r['gen']:>7.1f} {r['build']:>9.1f} {r['compile']:>9.1f} {r['nav']:>7.1f} {r['total']:>9.1f} "
+              f"{r['houses_per_s']:>9.1f} {r['path']:>8.2f} {r['path_p95']:>6.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
