@@ -16,9 +16,9 @@ import sys
 import time
 
 import numpy as np
+from benchmarks_common import pin_to_one_core
 
 import legent_gym  # noqa: F401
-from benchmarks_common import pin_to_one_core
 from legent_gym.world.builder import build_spec
 from legent_gym.world.generation import generate_house
 from legent_gym.world.navigation import NavGrid
@@ -51,7 +51,7 @@ def bench(n_rooms: int, houses: int) -> dict:
         cells = np.argwhere(grid.walkable)
         for _ in range(20):
             a, b = cells[rng.integers(len(cells), size=2)]
-            _, ms = timed(lambda a=a, b=b: grid.path(grid.to_world(a), grid.to_world(b)))
+            _, ms = timed(lambda a=a, b=b, g=grid: g.path(g.to_world(a), g.to_world(b)))
             paths.append(ms)
     med = statistics.median
     total = med([g + b + n for g, b, n in zip(gen, build, nav)])
