@@ -163,3 +163,13 @@ def test_json_schema_describes_the_format():
 def test_loads_scene_skips_asset_check_when_asked():
     text = json.dumps(_with("objects.0.asset", "my_own"))
     assert loads_scene(text, asset_known=None).object(0).asset == "my_own"
+
+
+def test_saved_files_get_ordinary_permissions(tmp_path):
+    import os
+    import stat
+
+    save_scene(validate_scene(MINIMAL), tmp_path / "s.json")
+    umask = os.umask(0)
+    os.umask(umask)
+    assert stat.S_IMODE((tmp_path / "s.json").stat().st_mode) == 0o666 & ~umask
