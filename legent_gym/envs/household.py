@@ -50,6 +50,8 @@ CAMERA_PRESETS = {
 }
 MAX_TEXT = 500
 HOUSE_RETRIES = 20
+#: The body method behind each interaction primitive (each takes an optional target).
+_BODY_METHOD = {Interact: "interact", Grab: "grab", Put: "put", Open: "open", Close: "close"}
 
 
 class HouseholdEnv(gym.Env):
@@ -278,16 +280,8 @@ class HouseholdEnv(gym.Env):
             case Finish():
                 self.ctx.finished = True
                 outcome = Outcome(True)
-            case Interact(target=t):
-                outcome = agent.interact(t)
-            case Grab(target=t):
-                outcome = agent.grab(t)
-            case Put(target=t):
-                outcome = agent.put(t)
-            case Open(target=t):
-                outcome = agent.open(t)
-            case Close(target=t):
-                outcome = agent.close(t)
+            case Interact() | Grab() | Put() | Open() | Close():
+                outcome = getattr(agent, _BODY_METHOD[type(primitive)])(primitive.target)
             case _:
                 outcome = Outcome(False, f"unsupported action {primitive!r}")
         if note:
