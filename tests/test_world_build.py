@@ -67,7 +67,6 @@ def test_receptacle_holds_a_dropped_object(asset_id, receptacle):
     scene = validate_scene(base)
     probe = build_world(scene)
     target, _ = _receptacle_world_pose(probe, 0, rec)
-    apple_h = registry.make("apple", 0).size[2]
     base["objects"].append({"id": 1, "asset": "apple", "position": [*target[:2], target[2] + 0.03],
                             "kind": "interactable", "on": 0})
     world = build_world(validate_scene(base))
@@ -77,7 +76,6 @@ def test_receptacle_holds_a_dropped_object(asset_id, receptacle):
     assert abs(rest[2] - target[2]) < 0.02, f"rests at z={rest[2]:.3f}, surface at {target[2]:.3f}"
     assert np.linalg.norm(rest[:2] - target[:2]) < 0.05
     assert np.linalg.norm(world.data.qvel[-6:-3]) < 0.05  # at rest
-    del apple_h
 
 
 def test_example_house_is_stable_under_physics(two_room):

@@ -17,7 +17,7 @@ Reach: an interaction succeeds only if the point the agent looks at is within
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
@@ -59,12 +59,10 @@ class BodyState:
     yaw: float  # degrees, 0 looks along +x, + turns left
     pitch: float = 0.0  # degrees, + looks down
     held: int | None = None
-    history: list = field(default_factory=list)
 
 
 def _names(world: World, object_id: int) -> str:
-    obj = world.scene.object(object_id)
-    return f"{object_id} ({world.assets[object_id].names[0]})" if obj else str(object_id)
+    return f"{object_id} ({world.assets[object_id].names[0]})"
 
 
 class Body:
@@ -79,7 +77,6 @@ class Body:
         self.pitch_range = pitch_range
         spawn = world.scene.agent if name == "agent" else (world.scene.user or world.scene.agent)
         self.state = BodyState(spawn.position[0], spawn.position[1], spawn.yaw)
-        self._body_id = world.model.body(name).id
         self._other = other
         r = self.options.radius
         self._lateral_offsets = [(lat, math.sqrt(max(r * r - lat * lat, 0.0))) for lat in (-r, -r / 2, 0.0, r / 2, r)]

@@ -82,9 +82,6 @@ class TaskContext:
     def object_centre(self, object_id: int) -> np.ndarray:
         return self.agent._object_centre(object_id)
 
-    def horizontal_distance(self, body: Body, point) -> float:
-        return body.horizontal_distance(point)
-
     def is_visible(self, body: Body, object_id: int, max_fov_deg: float | None = None) -> bool:
         """The object's centre is in the camera's view and a ray to it hits the object first."""
         centre = self.object_centre(object_id)

@@ -26,7 +26,7 @@ import mujoco
 import numpy as np
 
 from legent_gym.world.assets import registry
-from legent_gym.world.assets.model import AssetModel, Link, Part
+from legent_gym.world.assets.model import AssetModel, Link, Part, box_part, cylinder_part
 from legent_gym.world.meshing import (
     ColouredMesh,
     MeshAccumulator,
@@ -110,10 +110,6 @@ class World:
         """Scene object ids for an array of geom ids (-1 stays -1)."""
         return np.where(geom_ids >= 0, self.geom_object[np.maximum(geom_ids, 0)], -1).astype(np.int32)
 
-    def forward(self) -> None:
-        mujoco.mj_kinematics(self.model, self.data)
-        mujoco.mj_camlight(self.model, self.data)
-
 
 def yaw_quat(yaw_deg: float) -> np.ndarray:
     half = math.radians(yaw_deg) / 2
@@ -159,6 +155,7 @@ class _SpecBuilder:
         self.assets: dict[int, AssetModel] = {}
         # Geoms whose palette UVs must be filled in once the palette is complete.
         self._palette_uvs = self.palette.all_uvs()
+        self._door_initial: dict[str, float] = {}  # door id -> initial hinge angle
         self._mesh_count = 0
         self._texture_count = 0
 
@@ -375,18 +372,17 @@ class _SpecBuilder:
                                range=[0, limit] if to_left else [-limit, 0], damping=5.0)
         joint.ref = 0.0
         leaf_w = door.width - 0.02
-        panel = Part(*_box_arrays((leaf_w / 2 + 0.01, 0, door.height / 2), (leaf_w, DOOR_LEAF_THICKNESS, door.height - 0.01)),
-                     rgba=(0.55, 0.4, 0.28, 1.0), collision="box", material="wood")
+        panel = box_part((leaf_w / 2 + 0.01, 0, door.height / 2), (leaf_w, DOOR_LEAF_THICKNESS, door.height - 0.01),
+                         (0.55, 0.4, 0.28, 1.0), collision="box", material="wood")
         handle_y = DOOR_LEAF_THICKNESS / 2 + 0.03
-        handles = [Part(*_box_arrays((leaf_w - 0.08, s * handle_y, 1.0), (0.12, 0.02, 0.03)), rgba=(0.75, 0.75, 0.7, 1),
-                        collision="none", material="metal") for s in (-1, 1)]
+        handles = [box_part((leaf_w - 0.08, s * handle_y, 1.0), (0.12, 0.02, 0.03), (0.75, 0.75, 0.7, 1),
+                            collision="none", material="metal") for s in (-1, 1)]
         self._link_geoms(body, Link("leaf", [panel, *handles]), group=GROUP_HOUSE,
                          name=f"door_{door.id}", movable=True, cache=False)
         body.mass = 20.0
         body.ipos = [leaf_w / 2, 0.0, door.height / 2]  # the leaf's centre: what "the door" is
         body.inertia = [2.0, 2.0, 2.0]
         body.explicitinertial = True
-        self._door_initial = getattr(self, "_door_initial", {})
         self._door_initial[door.id] = door.openness * (limit if to_left else -limit)
 
     # -- objects -------------------------------------------------------------------------
@@ -441,11 +437,11 @@ class _SpecBuilder:
         body = wb.add_body(name=name, mocap=True)
         torso_h = opts.height * 0.62
         parts = [
-            Part(*_cylinder_arrays((0, 0, torso_h / 2), opts.radius, torso_h), rgba=rgba, collision="none"),
-            Part(*_cylinder_arrays((0, 0, torso_h + opts.height * 0.13), opts.radius * 0.8, opts.height * 0.26),
-                 rgba=tuple(min(c * 1.25, 1.0) for c in rgba[:3]) + (1.0,), collision="none"),
-            Part(*_box_arrays((opts.radius * 0.9, 0, opts.camera_height), (0.06, 0.14, 0.06)),
-                 rgba=(0.1, 0.1, 0.1, 1.0), collision="none"),
+            cylinder_part((0, 0, torso_h / 2), opts.radius, torso_h, rgba, collision="none"),
+            cylinder_part((0, 0, torso_h + opts.height * 0.13), opts.radius * 0.8, opts.height * 0.26,
+                          tuple(min(c * 1.25, 1.0) for c in rgba[:3]) + (1.0,), collision="none"),
+            box_part((opts.radius * 0.9, 0, opts.camera_height), (0.06, 0.14, 0.06), (0.1, 0.1, 0.1, 1.0),
+                     collision="none"),
         ]
         self._link_geoms(body, Link("avatar", parts), group=group, name=f"{name}_avatar",
                          movable=True, cache=False)
@@ -483,20 +479,6 @@ def _point_in_polygon(point, polygon) -> bool:
         if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
             inside = not inside
     return inside
-
-
-def _box_arrays(center, size):
-    from legent_gym.world.assets.model import box_part
-
-    p = box_part(center, size)
-    return p.vertices, p.faces
-
-
-def _cylinder_arrays(center, radius, height):
-    from legent_gym.world.assets.model import cylinder_part
-
-    p = cylinder_part(center, radius, height, segments=10)
-    return p.vertices, p.faces
 
 
 # ---------------------------------------------------------------------------------------

@@ -40,11 +40,6 @@ class Palette:
             self._index[key] = idx
         return idx
 
-    def uv(self, index: int) -> tuple[float, float]:
-        """Texture coordinate of a texel's centre."""
-        row, col = divmod(index, self.size)
-        return (col + 0.5) / self.size, (row + 0.5) / self.size
-
     def all_uvs(self) -> np.ndarray:
         idx = np.arange(self.size * self.size)
         return np.stack([(idx % self.size + 0.5) / self.size, (idx // self.size + 0.5) / self.size], axis=1)
@@ -110,9 +105,8 @@ class MeshAccumulator:
         self._colours.append(rgb)
         self._count += len(vertices)
 
-    def add_part(self, part: Part, transform: np.ndarray | None = None) -> None:
-        p = part if transform is None else part.transformed(transform)
-        self.add(p.vertices, p.faces, p.rgba)
+    def add_part(self, part: Part) -> None:
+        self.add(part.vertices, part.faces, part.rgba)
 
     def empty(self) -> bool:
         return self._count == 0

@@ -16,7 +16,6 @@ Every call returns a new array (Gymnasium's checker requires it).
 
 from __future__ import annotations
 
-import math
 import threading
 from dataclasses import dataclass
 from typing import Literal
@@ -230,7 +229,3 @@ class Renderer:
                 lookup[g.segid + 1] = g.objid
         return lookup[np.clip(segid, 0, scn.ngeom)]
 
-
-def horizontal_fov(fovy_deg: float, width: int, height: int) -> float:
-    """Horizontal field of view in degrees for a vertical one and an aspect ratio."""
-    return math.degrees(2 * math.atan(math.tan(math.radians(fovy_deg) / 2) * width / height))
