@@ -2,6 +2,6 @@
 # Set everything up, then run the default test suite (slow acceptance tests: add `-m slow`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-LEGENT_EXTRAS="${LEGENT_EXTRAS:-dev,rl}" bash scripts/setup.sh
+LEGENT_EXTRAS="${LEGENT_EXTRAS:-dev,rl,multiagent,data,baselines}" bash scripts/setup.sh
 .venv/bin/ruff check legent_gym tests benchmarks
 exec .venv/bin/python -m pytest -n 2 -q "$@"
