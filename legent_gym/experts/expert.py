@@ -1,0 +1,136 @@
+"""Experts: intermediate code executed by the motion planners, one optimal action at a time.
+
+* :class:`ProgramExecutor` runs code written by anyone (a template, an LLM, a person): it
+  keeps a program counter and asks the planner of the current instruction for the next
+  action; instructions that act once (``interact()``, ``speak(...)``) advance it at once.
+* :class:`Expert` is the task expert: at every call it writes the task's code for the
+  current state (:func:`~legent_gym.experts.templates.task_program`) and executes its first
+  action. It keeps no plan between calls beyond cached standing points, so it can take over
+  after any other policy's actions (DAgger), like the BabyAI bot.
+
+Both return a *step* (a tuple of action primitives) or the action in the env's own action
+space (:meth:`Expert.action`: action code for ``action_type="text"``, a dict for
+``"continuous"``).
+"""
+
+from __future__ import annotations
+
+from legent_gym.agent.actions import Close, Finish, Grab, Interact, Open, Put, Speak, format_actions
+from legent_gym.envs.action_spaces import actions_to_dict
+from legent_gym.experts.oracle import Oracle
+from legent_gym.experts.planners import Planner, PlanningError
+from legent_gym.experts.program import ONE_SHOT, Instruction, Program, check_program, parse_program
+from legent_gym.experts.templates import task_program
+
+__all__ = ["Expert", "ProgramExecutor", "PlanningError"]
+
+_ONE_SHOT_ACTION = {"interact": Interact, "grab": Grab, "put": Put, "open": Open, "close": Close}
+
+
+def one_shot(instruction: Instruction):
+    """The primitive of an instruction that acts once."""
+    if instruction.name == "speak":
+        return Speak(instruction.arg)
+    if instruction.name == "finish":
+        return Finish()
+    return _ONE_SHOT_ACTION[instruction.name](instruction.arg)
+
+
+def _interaction_follows(program: Program, index: int) -> bool:
+    return index < len(program) and program[index].name in _ONE_SHOT_ACTION
+
+
+def next_step(planner: Planner, program: Program, pc: int) -> tuple[tuple, int]:
+    """The next action of ``program`` from instruction ``pc`` on, and the new counter.
+
+    Planned instructions that are already done are skipped; a ``target`` whose aim is
+    complete after this action takes the interaction that follows it into the same action.
+    An exhausted program yields ``finish()``.
+    """
+    while pc < len(program):
+        ins = program[pc]
+        if ins.name in ONE_SHOT:
+            return (one_shot(ins),), pc + 1
+        if ins.name == "target":
+            step, aimed = planner.target(ins.arg)
+            if step is None:
+                pc += 1
+                continue
+            if aimed and _interaction_follows(program, pc + 1):
+                return step + (one_shot(program[pc + 1]),), pc + 2
+            return step, pc
+        step = planner.goto_user() if ins.name == "goto_user" else getattr(planner, ins.name)(ins.arg)
+        if step is None:
+            pc += 1
+            continue
+        return step, pc
+    return (Finish(),), pc
+
+
+class _ActionSpaceMixin:
+    oracle: Oracle
+
+    def action(self):
+        """The next action in the env's own action space."""
+        step = self.step()
+        if self.oracle.action_type == "text":
+            return format_actions(step)
+        return actions_to_dict(step, limits=self.oracle.limits)
+
+
+class ProgramExecutor(_ActionSpaceMixin):
+    """Runs one program (intermediate code) in an env's current episode.
+
+    Args:
+        env: the env (or a wrapper of it), already reset.
+        program: the code as text or a parsed :data:`Program`; object and door ids are
+            checked against the episode's scene (``ProgramError`` if one is unknown).
+    """
+
+    def __init__(self, env, program: str | Program):
+        self.oracle = Oracle(env)
+        self.planner = Planner(self.oracle)
+        self.program = parse_program(program) if isinstance(program, str) else tuple(program)
+        check_program(self.program, self.oracle.object_ids(), self.oracle.door_ids())
+        self.pc = 0
+
+    @property
+    def done(self) -> bool:
+        return self.pc >= len(self.program)
+
+    def step(self) -> tuple:
+        """The next action (a step of primitives); ``finish()`` once the program is done.
+        Raises :class:`PlanningError` when the current instruction cannot be carried out."""
+        step, self.pc = next_step(self.planner, self.program, self.pc)
+        return step
+
+
+class Expert(_ActionSpaceMixin):
+    """The task expert of an env: optimal actions from any state of any episode.
+
+    Args:
+        env: a Legent env (or a wrapper of one). The expert follows the env across resets.
+    """
+
+    def __init__(self, env):
+        self.oracle = Oracle(env)
+        self.planner = Planner(self.oracle)
+        #: Why the last call could not plan (None when it could): then the action is finish().
+        self.problem: str | None = None
+
+    def program(self) -> Program:
+        """The intermediate code that completes the task from the current state."""
+        return task_program(self.oracle)
+
+    def step(self) -> tuple:
+        """The next optimal action (a step of primitives).
+
+        When no plan exists (the goal became unreachable), returns ``finish()`` and says
+        why in :attr:`problem`."""
+        try:
+            step, _ = next_step(self.planner, self.program(), 0)
+            self.problem = None
+            return step
+        except PlanningError as err:
+            self.problem = str(err)
+            return (Finish(),)
