@@ -306,13 +306,11 @@ class Oracle:
 
     def _footprint(self, object_id: int) -> np.ndarray:
         """The object's footprint where it is now (it may have been moved)."""
-        world = self._ctx.world
-        lo, hi = world.assets[object_id].bounds()
-        body = world.object_body[object_id]
-        rot = world.data.xmat[body].reshape(3, 3)
-        origin = world.data.xpos[body]
-        local = [(lo[0], lo[1], 0), (hi[0], lo[1], 0), (hi[0], hi[1], 0), (lo[0], hi[1], 0)]
-        return np.array([(origin + rot @ np.asarray(p, dtype=float))[:2] for p in local])
+        return self._ctx.footprint(object_id)
+
+    def reach_distance(self, xy: Sequence[float], object_id: int) -> float:
+        """Horizontal metres from ``xy`` to the object's footprint (GoTo's "within reach")."""
+        return self._ctx.reach_distance(xy, object_id)
 
     def geodesic(self, point: Sequence[float], goal: Sequence[float]) -> float:
         """Geodesic metres from ``point`` to ``goal`` on the episode's grid (inf: no path)."""

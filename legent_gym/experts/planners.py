@@ -32,7 +32,7 @@ MIN_CORNER_GAP = 0.01  # corners closer than this are dropped (LEGENT)
 FIND_DISTANCE = 3.0  # find(a) stops once a is this close and in sight (LEGENT)
 COME_HERE_STOP = 1.0  # goto_user() stops this far from the user (success is < 2 m)
 REACH_MARGIN = 0.93  # aim only at points this fraction of the reach away, for rounding slack
-STAND_MARGIN = 0.85  # a standing point must offer an aim with this much slack (arrival is not exact)
+STAND_SLACK = 0.06  # metres of reach a standing point keeps in hand (arrival is not exact)
 DETOUR_STEP = 0.3  # metres walked sideways when the straight move is blocked
 
 
@@ -174,8 +174,7 @@ class Planner:
         stand = self._stands.get(key)
         if stand is not None and (key, stand) not in self._bad_stands and good(stand):
             return stand
-        near, within = (o.object_centre(object_id), footprint_reach) if purpose == "reach" else (None, math.inf)
-        for candidate in o.standing_points(object_id, footprint_reach, near=near, within=within):
+        for candidate in o.standing_points(object_id, footprint_reach):
             if (key, candidate) not in self._bad_stands and good(candidate):
                 self._stands[key] = candidate
                 return candidate
@@ -238,10 +237,10 @@ class Planner:
         o = self.oracle
         reach = o.reach
 
-        def strong(xy):  # the centre itself within reach and in sight (GoTo's success test)
+        def strong(xy):  # within reach and the centre in sight (GoTo's success test)
             eye = o.eye_at(xy)
             centre = o.object_centre(object_id)
-            if np.hypot(centre[0] - xy[0], centre[1] - xy[1]) > reach * STAND_MARGIN:
+            if o.reach_distance(xy, object_id) > reach - STAND_SLACK:
                 return False
             yaw, pitch = yaw_pitch_to(eye, centre)
             lo, hi = o.pitch_range
@@ -250,10 +249,10 @@ class Planner:
             hit = o.cast(yaw, pitch, eye)
             if hit is None or hit.object_id != object_id:
                 return False
-            return self._aim(object_id, eye, put, reach=reach * STAND_MARGIN / REACH_MARGIN) is not None
+            return self._aim(object_id, eye, put, reach=(reach - STAND_SLACK) / REACH_MARGIN) is not None
 
         def weak(xy):
-            return self._aim(object_id, o.eye_at(xy), put, reach=reach * STAND_MARGIN / REACH_MARGIN) is not None
+            return self._aim(object_id, o.eye_at(xy), put, reach=(reach - STAND_SLACK) / REACH_MARGIN) is not None
 
         purpose = "put" if put else "reach"
         try:

@@ -82,6 +82,26 @@ class TaskContext:
     def object_centre(self, object_id: int) -> np.ndarray:
         return self.agent._object_centre(object_id)
 
+    def footprint(self, object_id: int) -> np.ndarray:
+        """World (x, y) corners (4, 2) of the object's bounds where it is now."""
+        world = self.world
+        lo, hi = world.assets[object_id].bounds()
+        body = world.object_body[object_id]
+        rot = world.data.xmat[body].reshape(3, 3)[:2, :2]
+        local = np.array([(lo[0], lo[1]), (hi[0], lo[1]), (hi[0], hi[1]), (lo[0], hi[1])])
+        return world.data.xpos[body][:2] + local @ rot.T
+
+    def reach_distance(self, xy, object_id: int) -> float:
+        """Horizontal metres from ``xy`` to the nearest point of the object's footprint (0
+        inside it): what "within reach of A" measures, so that a large bed counts as
+        reached from its side."""
+        corners = self.footprint(object_id)
+        origin, u, v = corners[0], corners[1] - corners[0], corners[3] - corners[0]
+        rel = np.asarray(xy, dtype=float)[:2] - origin
+        a = float(np.clip(rel @ u / max(u @ u, 1e-12), 0.0, 1.0))
+        b = float(np.clip(rel @ v / max(v @ v, 1e-12), 0.0, 1.0))
+        return float(np.linalg.norm(rel - a * u - b * v))
+
     def is_visible(self, body: Body, object_id: int, max_fov_deg: float | None = None) -> bool:
         """The object's centre is in the camera's view and a ray to it hits the object first."""
         centre = self.object_centre(object_id)

@@ -3,7 +3,8 @@
 Success rules (LEGENT's where it had one):
 
 * ComeHere: the agent is within 2.0 m (horizontal) of the user, checked after every action.
-* GoTo(A): A is within reach of the agent and visible in its view.
+* GoTo(A): A is within reach of the agent (horizontally, to the nearest point of A's
+  footprint) and visible in its view.
 * PickUp(A): the agent holds A.
 * BringMe(A): the agent holds A within 2.0 m of the user.
 * WhereIs(A): the agent's speech names A's receptacle (its name or a synonym, a
@@ -81,7 +82,7 @@ class GoToInstance(TaskInstance):
     target: int
 
     def evaluate(self, ctx):
-        near = ctx.agent.horizontal_distance(ctx.object_centre(self.target)) <= ctx.agent.reach
+        near = ctx.reach_distance(ctx.agent.position, self.target) <= ctx.agent.reach
         done = near and ctx.is_visible(ctx.agent, self.target)
         return Evaluation(done, done, _object_distance(ctx, self.target))
 
