@@ -1,6 +1,7 @@
-"""Wrappers: ecosystem adapters (stable-baselines3), and later expert and history wrappers."""
+"""Wrappers: expert labels and demonstrations, ecosystem adapters (stable-baselines3), history."""
 
+from legent_gym.wrappers.expert import ExpertInfo, ExpertPolicy
 from legent_gym.wrappers.history import InterleavedHistory
 from legent_gym.wrappers.sb3 import FlatActions, InstructionTokens, tokenize
 
-__all__ = ["FlatActions", "InstructionTokens", "InterleavedHistory", "tokenize"]
+__all__ = ["ExpertInfo", "ExpertPolicy", "FlatActions", "InstructionTokens", "InterleavedHistory", "tokenize"]

@@ -18,7 +18,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from legent_gym.agent.actions import format_number
+from legent_gym.agent.actions import ActionLimits, format_number
 
 _WORD = re.compile(r"[a-z0-9']+")
 
@@ -66,12 +66,18 @@ class FlatActions(gym.ActionWrapper):
         self.limits = env.unwrapped.limits
 
     def action(self, action):
-        a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
-        move = (a[0] + 1.0) / 2.0 * self.limits.max_move
-        turn = a[1] * self.limits.max_rotate_right
-        tilt = a[2] * self.limits.max_rotate_down
-        parts = [f"move_forward({format_number(round(move, 3))})", f"rotate_right({format_number(round(turn, 2))})",
-                 f"rotate_down({format_number(round(tilt, 2))})"]
-        if a[3] > 0.5:
-            parts.append("interact()")
-        return ", ".join(parts)
+        return flat_action_text(action, self.limits)
+
+
+def flat_action_text(action, limits: ActionLimits) -> str:
+    """The action code of a flat ``[move, turn right, tilt down, interact]`` action in [-1, 1]
+    (what :class:`FlatActions` sends; also for policies that act outside the wrapper)."""
+    a = np.clip(np.asarray(action, dtype=np.float64), -1.0, 1.0)
+    move = (a[0] + 1.0) / 2.0 * limits.max_move
+    turn = a[1] * limits.max_rotate_right
+    tilt = a[2] * limits.max_rotate_down
+    parts = [f"move_forward({format_number(round(move, 3))})", f"rotate_right({format_number(round(turn, 2))})",
+             f"rotate_down({format_number(round(tilt, 2))})"]
+    if a[3] > 0.5:
+        parts.append("interact()")
+    return ", ".join(parts)
