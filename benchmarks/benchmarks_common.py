@@ -20,3 +20,14 @@ def median_ms(fn, repeats: int) -> float:
         fn()
         times.append((time.perf_counter() - start) * 1e3)
     return statistics.median(times)
+
+
+def place_agent_camera(world, x: float, y: float, yaw: float, pitch: float = 0.0) -> None:
+    """Put the agent's avatar and head camera at a pose, as a step must before it renders:
+    mocap pose, kinematics and camera placement (``mj_camlight``; without it the camera
+    keeps its old pose and every frame shows the same view)."""
+    import mujoco  # not at the top: legent_gym must choose the GL backend before mujoco loads
+
+    world.set_body_pose("agent", x, y, yaw, pitch)
+    mujoco.mj_kinematics(world.model, world.data)
+    mujoco.mj_camlight(world.model, world.data)

@@ -21,7 +21,7 @@ import sys
 import time
 from pathlib import Path
 
-from benchmarks_common import median_ms, pin_to_one_core
+from benchmarks_common import median_ms, pin_to_one_core, place_agent_camera
 
 import legent_gym  # noqa: F401  (sets MUJOCO_GL)
 from legent_gym.world.builder import BuildOptions, build_world
@@ -37,11 +37,11 @@ def frames_per_second(renderer: Renderer, frames: int, yaw_step: float = 7.0) ->
     world = renderer.world
     x, y = world.scene.agent.position
     for i in range(20):  # warm-up
-        world.set_body_pose("agent", x, y, i * yaw_step)
+        place_agent_camera(world, x, y, i * yaw_step)
         renderer.rgb("agent")
     start = time.perf_counter()
     for i in range(frames):
-        world.set_body_pose("agent", x, y, i * yaw_step)
+        place_agent_camera(world, x, y, i * yaw_step)
         renderer.rgb("agent")
     return frames / (time.perf_counter() - start)
 

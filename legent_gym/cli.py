@@ -6,6 +6,7 @@
     legent-gym asset preview PATH.glb|ASSET_ID --out FILE.png [--size N] [--variant K]
     legent-gym generate --preset TwoRoom --seed 3 --out house.json [--map house.png]
     legent-gym generate --preset TwoRoom --seed 0 --count 100 --out-dir houses/
+    legent-gym collect ENV_ID --episodes N --out DIR [--format minari,legent,video] [--workers K] [--seed S]
 
 Errors a user can cause (a bad file, a bad argument) print one clear message and exit 2.
 """
@@ -121,6 +122,31 @@ def cmd_generate(args) -> int:
     return 0
 
 
+def cmd_collect(args) -> int:
+    import json
+
+    from legent_gym.data.collect import CollectConfig, collect, describe
+
+    env_kwargs = {}
+    if args.env_kwargs:
+        try:
+            env_kwargs = json.loads(args.env_kwargs)
+        except json.JSONDecodeError as err:
+            raise UserError(f"--env-kwargs is not valid JSON: {err}") from None
+        if not isinstance(env_kwargs, dict):
+            raise UserError(f"--env-kwargs must be a JSON object, got {args.env_kwargs!r}")
+    for key, value in (("width", args.width), ("height", args.height), ("action_type", args.action_type),
+                       ("max_episode_steps", args.max_steps)):
+        if value is not None:
+            env_kwargs[key] = value
+    formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
+    config = CollectConfig(args.env_id, args.episodes, args.out, formats=formats, workers=args.workers,
+                           seed=args.seed, env_kwargs=env_kwargs, policy=args.policy, window=args.window,
+                           dataset_id=args.dataset_id, max_attempts=args.max_attempts)
+    print(describe(collect(config, show_progress=not args.quiet)))
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="legent-gym", description=__doc__.split("\n\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -157,6 +183,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--count", type=int, default=1, help="number of houses (seeds seed..seed+count-1)")
     p.add_argument("--out-dir", help="directory for a batch")
     p.set_defaults(func=cmd_generate)
+
+    p = sub.add_parser("collect", help="record successful trajectories (of the expert by default)",
+                       description="Record successful episodes of ENV_ID as Minari, LEGENT and video "
+                                   "datasets; resumes what is in --out. See docs/datasets.md.")
+    p.add_argument("env_id", help="e.g. Legent/ComeHere-OneRoom-v0")
+    p.add_argument("--episodes", type=int, required=True, help="successful episodes wanted in all")
+    p.add_argument("--out", required=True, help="output directory (resumed if it holds a collection)")
+    p.add_argument("--format", default="minari,legent", help="comma-separated: minari, legent, video")
+    p.add_argument("--workers", type=int, default=1, help="worker processes")
+    p.add_argument("--seed", type=int, default=0, help="attempt k resets with seed S + k")
+    p.add_argument("--policy", default="expert", help="'expert' or module:function, a callable (obs, info) -> action")
+    p.add_argument("--width", type=int)
+    p.add_argument("--height", type=int)
+    p.add_argument("--action-type", choices=["text", "continuous"])
+    p.add_argument("--max-steps", type=int, help="episode cap (the env's max_episode_steps)")
+    p.add_argument("--env-kwargs", help="JSON object of further gym.make arguments")
+    p.add_argument("--window", type=int, default=6, help="images per interleaved.jsonl sample")
+    p.add_argument("--dataset-id", help="Minari dataset id (default legent/<Task>-<Layout>/expert-v0)")
+    p.add_argument("--max-attempts", type=int, help="give up after this many attempts (default 10 N + 100)")
+    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_collect)
     return parser
 
 
@@ -175,6 +222,12 @@ def main(argv: list[str] | None = None) -> int:
         from legent_gym.world.generation import GenerationError
 
         user_errors += (GenerationError,)
+    except ImportError:
+        pass
+    try:
+        from legent_gym.data.collect import CollectError
+
+        user_errors += (CollectError,)
     except ImportError:
         pass
     try:

@@ -2,13 +2,21 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import gymnasium as gym
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import legent_gym  # noqa: F401
-from legent_gym.experts import Instruction, ProgramError, ProgramExecutor, format_program, parse_program
+from legent_gym.experts import (
+    Instruction,
+    ProgramError,
+    ProgramExecutor,
+    format_program,
+    parse_program,
+)
 from legent_gym.experts.program import check_program
 
 
@@ -76,10 +84,8 @@ def test_print_parse_round_trip(program):
 @settings(max_examples=500, deadline=None)
 @given(st.text(max_size=60))
 def test_parser_never_fails_otherwise(text):
-    try:
+    with contextlib.suppress(ProgramError):
         parse_program(text)
-    except ProgramError:
-        pass
 
 
 def _run(env, executor, limit=25):

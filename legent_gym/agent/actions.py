@@ -39,11 +39,13 @@ clips with :func:`clip_action` and reports the note it returns.
 from __future__ import annotations
 
 import difflib
+import functools
 import json
 import math
 import numbers
 import operator
-from collections.abc import Callable, Iterable
+import re
+from collections.abc import Iterable
 from dataclasses import dataclass
 
 __all__ = [
@@ -80,6 +82,8 @@ __all__ = [
 
 def _finite_float(value: object, what: str) -> float:
     """``value`` as a finite Python float, or ``TypeError`` / ``ValueError``."""
+    if type(value) is float and math.isfinite(value):  # the common case, without the ABC check
+        return value
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise TypeError(f"{what} must be a real number, got {value!r}")
     result = float(value)
@@ -607,7 +611,73 @@ def parse_actions(text: str) -> Step:
     """
     if not isinstance(text, str):
         raise TypeError(f"parse_actions() needs a str, got {type(text).__name__}")
-    return _Parser(text).step()
+    return _parse_cached(text)
+
+
+@functools.lru_cache(maxsize=4096)
+def _parse_cached(text: str) -> Step:
+    # Steps are immutable tuples of frozen dataclasses, so a cached one can be shared;
+    # policies and experts repeat the same strings ("move_forward(0.5)") a lot.
+    step = _parse_simple(text)
+    return step if step is not None else _Parser(text).step()
+
+
+# The common shapes of a call, read with one regular expression: a known name, plain
+# spaces, and a number, a quoted string without escapes, or nothing in the parentheses,
+# followed by a comma or the end. Anything else (and anything this path is unsure of)
+# goes to the full parser, which gives the same result or the precise error.
+_SIMPLE_NUMBER = r"[+-]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][+-]?[0-9]+)?"
+_SIMPLE_CALL = re.compile(
+    r" *([a-z_]+) *\( *(?:(" + _SIMPLE_NUMBER + r")|\"([^\"\\]*)\"|'([^'\\]*)')? *\) *(?:,|\Z)")
+
+
+def _parse_simple(text: str) -> Step | None:
+    """The step, when ``text`` is simple enough for :data:`_SIMPLE_CALL`; else None."""
+    out: list[Action] = []
+    pos, end = 0, len(text)
+    while pos < end:
+        m = _SIMPLE_CALL.match(text, pos)
+        if m is None:
+            return None
+        pos = m.end()
+        call = m.group(0)
+        known = _SIMPLE_CALLS.get(call)
+        if known is not None:
+            out.append(known)
+            continue
+        name, number, double_quoted, single_quoted = m.groups()
+        entry = _CALLS.get(name)
+        if entry is None:
+            return None
+        cls, kind, _ = entry
+        quoted = double_quoted if double_quoted is not None else single_quoted
+        if kind == _NUMBER:
+            if number is None:
+                return None
+            value = float(number)
+            if not math.isfinite(value):
+                return None
+            out.append(cls(value))
+        elif kind == _STRING:
+            if quoted is None:
+                return None
+            out.append(cls(quoted))
+        elif number is None and quoted is None:
+            out.append(cls())
+        elif (kind in (_OBJECT, _TARGET) and number is not None and number.isdigit() and number.isascii()
+              and len(number) <= 18):  # huge ids: the full parser says what is wrong
+            out.append(cls(int(number)))
+        else:
+            return None
+        if len(_SIMPLE_CALLS) >= 8192:
+            _SIMPLE_CALLS.clear()
+        _SIMPLE_CALLS[call] = out[-1]
+    return tuple(out) if out else None
+
+
+#: Text of one call (as matched, separator included) -> its primitive: the same calls recur
+#: across steps ("rotate_right(30)"), and primitives are immutable.
+_SIMPLE_CALLS: dict[str, Action] = {}
 
 
 # --------------------------------------------------------------------------------------
@@ -759,18 +829,18 @@ def clip_action(
     >>> clip_action(MoveForward(3.5), ActionLimits())
     (MoveForward(distance=2.0), 'move_forward(3.5) clipped to 2.0 m')
     """
-    clippers: dict[type, Callable[[Action], tuple[Action, str | None]]] = {
-        MoveForward: lambda a: _clip_move(a, limits),
-        RotateRight: lambda a: _clip_turn(a, limits),
-        RotateDown: lambda a: _clip_tilt(a, limits, pitch),
-        Speak: lambda a: _clip_speech(a, limits),
-    }
-    clipper = clippers.get(type(action))
-    if clipper is None:
-        if type(action) not in _NAMES:
-            raise TypeError(f"not an action: {action!r}")
-        return action, None
-    return clipper(action)
+    kind = type(action)  # exact types, as everywhere in this module
+    if kind is MoveForward:
+        return _clip_move(action, limits)
+    if kind is RotateRight:
+        return _clip_turn(action, limits)
+    if kind is RotateDown:
+        return _clip_tilt(action, limits, pitch)
+    if kind is Speak:
+        return _clip_speech(action, limits)
+    if kind not in _NAMES:
+        raise TypeError(f"not an action: {action!r}")
+    return action, None
 
 
 def clip_step(

@@ -24,7 +24,7 @@ from legent_gym.agent.actions import (
     RotateRight,
     Speak,
     clip_action,
-    format_actions,
+    format_action,
     parse_actions,
 )
 from legent_gym.agent.body import DEFAULT_REACH, Body, Outcome
@@ -244,15 +244,16 @@ class HouseholdEnv(gym.Env):
             primitives = ()
             info_extra["action_error"] = str(err)
         self._n_actions += 1
-        results = [self._execute(p) for p in primitives]
+        with self.ctx.agent.batched():  # one world update for the step's moves and turns
+            results = [self._execute(p) for p in primitives]
         evaluation = self.goal.evaluate(self.ctx)
         terminated = evaluation.success or evaluation.ends or self.ctx.finished
         reward = self._reward(evaluation)
         info = self._info(evaluation)
         info.update(info_extra)
-        info["action_text"] = format_actions(primitives) if primitives else ""
-        info["action_results"] = [{"action": format_actions((p,)), "ok": r.ok, "reason": r.reason}
-                                  for p, r in zip(primitives, results)]
+        texts = [format_action(p) for p in primitives]  # each primitive printed once
+        info["action_text"] = ", ".join(texts)
+        info["action_results"] = [{"action": t, "ok": r.ok, "reason": r.reason} for t, r in zip(texts, results)]
         return self._observation(), reward, bool(terminated), False, info
 
     def _to_primitives(self, action) -> tuple:
@@ -264,9 +265,11 @@ class HouseholdEnv(gym.Env):
             return parse_actions(action)
         return dict_to_actions(action)
 
-    def _execute(self, primitive) -> Outcome:
+    def _execute(self, primitive, body: Body | None = None) -> Outcome:
+        """Run one primitive by the agent, or by ``body`` (the multi-agent env's user moves
+        and interacts through here; it handles the user's speech and finish itself)."""
         primitive, note = clip_action(primitive, self.limits)
-        agent = self.ctx.agent
+        agent = self.ctx.agent if body is None else body
         match primitive:
             case MoveForward(distance=d):
                 outcome = agent.move_forward(d)

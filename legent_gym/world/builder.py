@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import mujoco
 import numpy as np
@@ -91,17 +92,32 @@ class World:
     palette: Palette
     options: BuildOptions
     free_objects: list[int] = field(default_factory=list)
+    #: Data derived from this world by other modules (e.g. the agent's clearance map),
+    #: dropped with it.
+    derived: dict[object, object] = field(default_factory=dict, init=False, repr=False, compare=False)
+    #: avatar name -> (body mocap id, head mocap id): looked up once, used every step.
+    _mocap_ids: dict[str, tuple[int, int]] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     # -- poses of the kinematic bodies ---------------------------------------------------
     def set_body_pose(self, name: str, x: float, y: float, yaw_deg: float, pitch_deg: float = 0.0) -> None:
         """Place an avatar (``agent``/``user``) and its head camera. yaw 0 looks along +x."""
+        body, head = self.avatar_mocap_ids(name)
         opts = self.options.agent if name == "agent" else self.options.user
-        body = self.model.body(name)
-        head = self.model.body(f"{name}_head")
-        self.data.mocap_pos[body.mocapid[0]] = (x, y, 0.0)
-        self.data.mocap_quat[body.mocapid[0]] = yaw_quat(yaw_deg)
-        self.data.mocap_pos[head.mocapid[0]] = (x, y, opts.camera_height)
-        self.data.mocap_quat[head.mocapid[0]] = camera_quat(yaw_deg, pitch_deg)
+        data = self.data
+        data.mocap_pos[body] = (x, y, 0.0)
+        half = math.radians(yaw_deg) / 2
+        data.mocap_quat[body] = (math.cos(half), 0.0, 0.0, math.sin(half))  # yaw_quat's values
+        data.mocap_pos[head] = (x, y, opts.camera_height)
+        # camera_quat's arithmetic, written straight into the mocap quaternion.
+        mujoco.mju_mat2Quat(data.mocap_quat[head], _camera_matrix(yaw_deg, pitch_deg))
+
+    def avatar_mocap_ids(self, name: str) -> tuple[int, int]:
+        """(body, head) mocap ids of an avatar (``agent``/``user``), looked up once."""
+        ids = self._mocap_ids.get(name)
+        if ids is None:
+            ids = self._mocap_ids[name] = (int(self.model.body(name).mocapid[0]),
+                                           int(self.model.body(f"{name}_head").mocapid[0]))
+        return ids
 
     def object_position(self, object_id: int) -> np.ndarray:
         return self.data.xpos[self.object_body[object_id]].copy()
@@ -122,15 +138,18 @@ def camera_quat(yaw_deg: float, pitch_deg: float) -> np.ndarray:
     yaw 0 looks along world +x; positive pitch looks down (LEGENT's rotate_down). Plain
     scalar maths: this runs several times per step.
     """
+    quat = np.empty(4)
+    mujoco.mju_mat2Quat(quat, _camera_matrix(yaw_deg, pitch_deg))
+    return quat
+
+
+def _camera_matrix(yaw_deg: float, pitch_deg: float) -> np.ndarray:
     yaw, pitch = math.radians(yaw_deg), math.radians(pitch_deg)
     cy, sy, cp, sp = math.cos(yaw), math.sin(yaw), math.cos(pitch), math.sin(pitch)
     # Columns: camera x (right), y (up), z (backward) in world coordinates.
-    mat = np.array([sy, sp * cy, -cp * cy,
-                    -cy, sp * sy, -cp * sy,
-                    0.0, cp, sp])
-    quat = np.empty(4)
-    mujoco.mju_mat2Quat(quat, mat)
-    return quat
+    return np.array([sy, sp * cy, -cp * cy,
+                     -cy, sp * sy, -cp * sy,
+                     0.0, cp, sp])
 
 
 def euler_deg_quat(rotation) -> np.ndarray:
@@ -158,6 +177,7 @@ class _SpecBuilder:
         self._door_initial: dict[str, float] = {}  # door id -> initial hinge angle
         self._mesh_count = 0
         self._texture_count = 0
+        self._imported = {a.id: a for a in scene.assets}
 
     # -- top level ----------------------------------------------------------------------
     def build(self) -> tuple[mujoco.MjSpec, Palette]:
@@ -256,16 +276,16 @@ class _SpecBuilder:
     def _link_geoms(self, body, link: Link, *, group: int, name: str, movable: bool,
                     friction=(1.0, 0.005, 0.0001), cache: bool = True) -> None:
         """Visual and collision geoms of one link."""
+        geometry = link_geometry(link, movable, cache=cache)
         if self.options.naive:
             for i, part in enumerate(link.parts):
                 self._plain_geom(body, part, group=group, name=f"{name}_{i}")
         else:
-            geometry = link_geometry(link, movable, cache=cache)
             for i, part in enumerate(geometry.textured):
                 self._textured_geom(body, part, group=group, name=f"{name}_tex{i}")
             if geometry.mesh is not None:
                 self._mesh_geom(body, geometry.mesh, group=group, name=name)
-        self._collision_geoms(body, link_geometry(link, movable, cache=cache).collision, name=name, friction=friction)
+        self._collision_geoms(body, geometry.collision, name=name, friction=friction)
 
     def _collision_geoms(self, body, shapes, *, name: str, friction) -> None:
         for i, shape in enumerate(shapes):
@@ -372,13 +392,8 @@ class _SpecBuilder:
                                range=[0, limit] if to_left else [-limit, 0], damping=5.0)
         joint.ref = 0.0
         leaf_w = door.width - 0.02
-        panel = box_part((leaf_w / 2 + 0.01, 0, door.height / 2), (leaf_w, DOOR_LEAF_THICKNESS, door.height - 0.01),
-                         (0.55, 0.4, 0.28, 1.0), collision="box", material="wood")
-        handle_y = DOOR_LEAF_THICKNESS / 2 + 0.03
-        handles = [box_part((leaf_w - 0.08, s * handle_y, 1.0), (0.12, 0.02, 0.03), (0.75, 0.75, 0.7, 1),
-                            collision="none", material="metal") for s in (-1, 1)]
-        self._link_geoms(body, Link("leaf", [panel, *handles]), group=GROUP_HOUSE,
-                         name=f"door_{door.id}", movable=True, cache=False)
+        self._link_geoms(body, _door_leaf_link(leaf_w, door.height), group=GROUP_HOUSE,
+                         name=f"door_{door.id}", movable=True)
         body.mass = 20.0
         body.ipos = [leaf_w / 2, 0.0, door.height / 2]  # the leaf's centre: what "the door" is
         body.inertia = [2.0, 2.0, 2.0]
@@ -387,7 +402,7 @@ class _SpecBuilder:
 
     # -- objects -------------------------------------------------------------------------
     def _asset_for(self, obj) -> AssetModel:
-        imported = {a.id: a for a in self.scene.assets}
+        imported = self._imported
         if obj.asset in imported:
             from legent_gym.world.assets.gltf import load_imported_asset
 
@@ -435,16 +450,8 @@ class _SpecBuilder:
     def _add_avatar(self, name: str, opts: BodyOptions, rgba, group: int) -> None:
         wb = self.spec.worldbody
         body = wb.add_body(name=name, mocap=True)
-        torso_h = opts.height * 0.62
-        parts = [
-            cylinder_part((0, 0, torso_h / 2), opts.radius, torso_h, rgba, collision="none"),
-            cylinder_part((0, 0, torso_h + opts.height * 0.13), opts.radius * 0.8, opts.height * 0.26,
-                          tuple(min(c * 1.25, 1.0) for c in rgba[:3]) + (1.0,), collision="none"),
-            box_part((opts.radius * 0.9, 0, opts.camera_height), (0.06, 0.14, 0.06), (0.1, 0.1, 0.1, 1.0),
-                     collision="none"),
-        ]
-        self._link_geoms(body, Link("avatar", parts), group=group, name=f"{name}_avatar",
-                         movable=True, cache=False)
+        self._link_geoms(body, _avatar_link(opts, tuple(rgba)), group=group, name=f"{name}_avatar",
+                         movable=True)
         head = wb.add_body(name=f"{name}_head", mocap=True, pos=[0, 0, opts.camera_height])
         cam = head.add_camera(name=f"{name}_camera", fovy=opts.fovy)
         cam.pos = [0, 0, 0]
@@ -469,6 +476,32 @@ class _SpecBuilder:
     def _finish_palette(self) -> None:
         if not self.options.naive:
             self._palette_texture.data = styled_palette(self.palette.image(), self._style).tobytes()
+
+
+# Avatars and door leaves are the same few shapes in every house: one Link object per shape,
+# so their merged geometry is cached like an asset's (link_geometry caches per Link).
+
+
+@lru_cache(maxsize=64)
+def _avatar_link(opts: BodyOptions, rgba: tuple) -> Link:
+    torso_h = opts.height * 0.62
+    return Link("avatar", [
+        cylinder_part((0, 0, torso_h / 2), opts.radius, torso_h, rgba, collision="none"),
+        cylinder_part((0, 0, torso_h + opts.height * 0.13), opts.radius * 0.8, opts.height * 0.26,
+                      tuple(min(c * 1.25, 1.0) for c in rgba[:3]) + (1.0,), collision="none"),
+        box_part((opts.radius * 0.9, 0, opts.camera_height), (0.06, 0.14, 0.06), (0.1, 0.1, 0.1, 1.0),
+                 collision="none"),
+    ])
+
+
+@lru_cache(maxsize=256)
+def _door_leaf_link(leaf_w: float, height: float) -> Link:
+    panel = box_part((leaf_w / 2 + 0.01, 0, height / 2), (leaf_w, DOOR_LEAF_THICKNESS, height - 0.01),
+                     (0.55, 0.4, 0.28, 1.0), collision="box", material="wood")
+    handle_y = DOOR_LEAF_THICKNESS / 2 + 0.03
+    handles = [box_part((leaf_w - 0.08, s * handle_y, 1.0), (0.12, 0.02, 0.03), (0.75, 0.75, 0.7, 1),
+                        collision="none", material="metal") for s in (-1, 1)]
+    return Link("leaf", [panel, *handles])
 
 
 def _point_in_polygon(point, polygon) -> bool:

@@ -185,9 +185,11 @@ class _Raster:
         self.x0, self.y0 = float(origin[0]), float(origin[1])
         self.res = float(resolution)
         self.shape = shape
+        self._centres: tuple[np.ndarray, np.ndarray] | None = None
 
     def window(self, xmin: float, ymin: float, xmax: float, ymax: float):
-        """Index ranges and cell-centre coordinates covering a world box (clipped)."""
+        """Index ranges and cell-centre coordinates covering a world box (clipped); the
+        coordinates are read-only views."""
         h, w = self.shape
         c0 = max(0, int(math.floor((xmin - self.x0) / self.res)))
         c1 = min(w, int(math.ceil((xmax - self.x0) / self.res)) + 1)
@@ -195,9 +197,13 @@ class _Raster:
         r1 = min(h, int(math.ceil((ymax - self.y0) / self.res)) + 1)
         if c0 >= c1 or r0 >= r1:
             return None
-        xs = self.x0 + (np.arange(c0, c1) + 0.5) * self.res
-        ys = self.y0 + (np.arange(r0, r1) + 0.5) * self.res
-        return (slice(r0, r1), slice(c0, c1)), xs[None, :], ys[:, None]
+        if self._centres is None:  # every column's and row's centre, computed once
+            xs = self.x0 + (np.arange(w) + 0.5) * self.res
+            ys = self.y0 + (np.arange(h) + 0.5) * self.res
+            xs.flags.writeable = ys.flags.writeable = False
+            self._centres = (xs[None, :], ys[:, None])
+        xs, ys = self._centres
+        return (slice(r0, r1), slice(c0, c1)), xs[:, c0:c1], ys[r0:r1]
 
     def fill_polygon(self, mask: np.ndarray, polygon: np.ndarray) -> None:
         poly = np.asarray(polygon, dtype=np.float64)
@@ -255,8 +261,40 @@ def walkable_from_free(free: np.ndarray, radius: float, resolution: float) -> np
     """
     if radius <= 0:
         return free.copy()
-    clearance = ndimage.distance_transform_edt(free)
-    return clearance * resolution >= radius + 0.5 * resolution
+    return clearance_at_least(free, radius + 0.5 * resolution, resolution)
+
+
+def least_square_distance(distance: float, resolution: float) -> int:
+    """The least integer ``n`` (a squared distance between cell centres, in cells) with
+    ``sqrt(n) * resolution >= distance``, in the float arithmetic the distance transform's
+    users apply."""
+    n = max(int((distance / resolution) ** 2) - 2, 0) if distance > 0 else 0
+    while n > 0 and math.sqrt(n - 1) * resolution >= distance:
+        n -= 1
+    while math.sqrt(n) * resolution < distance:
+        n += 1
+    return n
+
+
+def clearance_at_least(free: np.ndarray, distance: float, resolution: float) -> np.ndarray:
+    """``ndimage.distance_transform_edt(free) * resolution >= distance``, the same cells,
+    about three times faster.
+
+    Squared distances between cell centres are integers, so the test is ``d2 >= n`` for the
+    least integer ``n`` that passes it (found with the same float arithmetic). OpenCV's exact
+    Euclidean transform gives ``sqrt(d2)`` in float32, accurate enough to tell ``d2`` from
+    ``d2 - 1``; SciPy's is kept for a grid with no blocked cell (where the two differ).
+    """
+    if free.all():
+        return ndimage.distance_transform_edt(free) * resolution >= distance
+    n = least_square_distance(distance, resolution)
+    if n == 0:
+        return np.ones(free.shape, dtype=bool)
+    import cv2  # a core dependency, imported when first needed (~0.2 s)
+
+    dist = cv2.distanceTransform(np.ascontiguousarray(free, dtype=np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    # dist**2 is within 0.02 of the integer d2 (float32 error), so halfway is a safe cut.
+    return dist >= np.float32(math.sqrt(n - 0.5))
 
 
 # ---------------------------------------------------------------------------------------
@@ -291,6 +329,7 @@ class NavGrid:
         self._cells: np.ndarray | None = None
         self._fields: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
         self._open: np.ndarray | None = None
+        self._component_masks: dict[int, np.ndarray] = {}
         self.cache_size = 32
 
     # -- construction -------------------------------------------------------------------
@@ -538,9 +577,13 @@ class NavGrid:
 
     def _wall_free(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Segments a[i] -> b[i] (grid coordinates) that cross no wall cell."""
+        return _segments_clear(self._open_mask(), a, b)
+
+    def _open_mask(self) -> np.ndarray:
+        """Cells free of walls (and of closed doors)."""
         if self._open is None:
             self._open = ~self.walls
-        return _segments_clear(self._open, a, b)
+        return self._open
 
     def footprint(self, object_id: int) -> np.ndarray:
         """World corners (4, 2) of an object's footprint."""
@@ -566,19 +609,69 @@ class NavGrid:
         if win is None:
             return empty
         sl, xs, ys = win
-        sub = self.walkable[sl]
-        if component is not None:
-            sub = sub & (self.labels[sl] == component)
-        rr, cc = np.nonzero(sub)
-        if len(rr) == 0:
+        sub = (self.walkable if component is None else self._component_mask(component))[sl]
+        separable = _axis_aligned_nearest(c, xs[0], ys[:, 0])
+        if separable is not None:
+            # An axis-aligned footprint (furniture turns by quarter turns): the nearest
+            # point's x depends on the column only and its y on the row only.
+            nx, ny = separable
+            within = np.hypot((nx - xs[0])[None, :], (ny - ys[:, 0])[:, None])
+            rr, cc = np.nonzero(sub & (within <= reach))
+            if len(rr) == 0:
+                return empty
+            px, py, dist = xs[0, cc], ys[rr, 0], within[rr, cc]
+            nearest = np.column_stack([nx[cc], ny[rr]])
+            order = np.argsort(dist, kind="stable")
+        else:
+            rr, cc = np.nonzero(sub)
+            if len(rr) == 0:
+                return empty
+            px, py = xs[0, cc], ys[rr, 0]
+            nearest = _closest_on_rect(c, np.column_stack([px, py]))
+            dist = np.hypot(nearest[:, 0] - px, nearest[:, 1] - py)
+            near = np.nonzero(dist <= reach)[0]
+            # Nearest first; the line-of-sight work below is done only on the candidates it
+            # needs (with first_only, usually just the first chunk).
+            order = near[np.argsort(dist[near], kind="stable")]
+        if first_only:
+            for k in range(0, len(order), 64):  # nearest first: usually the first chunk has one
+                chunk = order[k:k + 64]
+                a, b = self._sight_segments(px[chunk], py[chunk], nearest[chunk])
+                clear = None
+                if k == 0:
+                    # The nearest cells are usually in sight: check a few one by one (the
+                    # vectorised check costs ~100 numpy calls however few segments it gets).
+                    open_ = self._open_mask()
+                    for i, (sa, sb) in enumerate(zip(a[:4].tolist(), b[:4].tolist())):
+                        if _segment_clear(open_, sa[0], sa[1], sb[0], sb[1]):
+                            clear = i
+                            break
+                    if clear is None and len(chunk) > 4:
+                        found = self._wall_free(a[4:], b[4:])
+                        clear = 4 + int(np.argmax(found)) if found.any() else None
+                else:
+                    found = self._wall_free(a, b)
+                    clear = int(np.argmax(found)) if found.any() else None
+                if clear is not None:
+                    j = int(chunk[clear])
+                    return (np.array([[rr[j] + sl[0].start, cc[j] + sl[1].start]]), dist[j:j + 1])
             return empty
-        px, py = xs[0, cc], ys[rr, 0]
-        nearest = _closest_on_rect(c, np.column_stack([px, py]))
-        dist = np.hypot(nearest[:, 0] - px, nearest[:, 1] - py)
-        near = dist <= reach
-        rr, cc, px, py, nearest, dist = rr[near], cc[near], px[near], py[near], nearest[near], dist[near]
-        order = np.argsort(dist, kind="stable")
-        rr, cc, px, py, nearest, dist = rr[order], cc[order], px[order], py[order], nearest[order], dist[order]
+        if len(order) == 0:
+            return empty
+        clear = self._wall_free(*self._sight_segments(px[order], py[order], nearest[order]))
+        keep = order[clear]
+        return np.column_stack([rr[keep] + sl[0].start, cc[keep] + sl[1].start]), dist[keep]
+
+    def _component_mask(self, component: int) -> np.ndarray:
+        """Walkable cells of one connected component (cached per component)."""
+        mask = self._component_masks.get(component)
+        if mask is None:
+            mask = self._component_masks[component] = self.walkable & (self.labels == component)
+        return mask
+
+    def _sight_segments(self, px: np.ndarray, py: np.ndarray, nearest: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Grid-coordinate segments from cell centres (px, py) toward their nearest points on
+        a footprint, whose wall crossings decide whether the footprint is in sight."""
         a = np.column_stack([(px - self.origin[0]) / self.resolution, (py - self.origin[1]) / self.resolution])
         b = np.column_stack([(nearest[:, 0] - self.origin[0]) / self.resolution,
                              (nearest[:, 1] - self.origin[1]) / self.resolution])
@@ -586,16 +679,7 @@ class NavGrid:
         # from a wall face, inside the wall's raster band.
         gap = np.hypot(*(a - b).T)
         b = b + (a - b) * np.minimum(1.0, 1.5 / np.maximum(gap, 1e-9))[:, None]
-        cells = np.column_stack([rr + sl[0].start, cc + sl[1].start])
-        if first_only:
-            for k in range(0, len(a), 64):  # nearest first: usually the first chunk has one
-                clear = self._wall_free(a[k:k + 64], b[k:k + 64])
-                if clear.any():
-                    j = k + int(np.argmax(clear))
-                    return cells[j:j + 1], dist[j:j + 1]
-            return empty
-        clear = self._wall_free(a, b) if len(a) else np.zeros(0, dtype=bool)
-        return cells[clear], dist[clear]
+        return a, b
 
     def standing_point(self, object_id: int | np.ndarray, reach: float = 1.0,
                        start: Sequence[float] | None = None) -> XY | None:
@@ -630,7 +714,7 @@ def _segments_clear(mask: np.ndarray, a: np.ndarray, targets: np.ndarray) -> np.
 
     def lookup(rows: np.ndarray, cols: np.ndarray, valid: np.ndarray) -> np.ndarray:
         inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
-        vals = mask[np.clip(rows, 0, h - 1), np.clip(cols, 0, w - 1)] & inside
+        vals = mask[np.minimum(np.maximum(rows, 0), h - 1), np.minimum(np.maximum(cols, 0), w - 1)] & inside
         return (vals | ~valid).all(axis=-1)
 
     one = np.ones((len(t), 1), dtype=bool)
@@ -657,6 +741,56 @@ def _segments_clear(mask: np.ndarray, a: np.ndarray, targets: np.ndarray) -> np.
         else:
             ok &= lookup(k - 1, line, valid) & lookup(k, line, valid)
     return ok
+
+
+def _segment_clear(mask: np.ndarray, sx: float, sy: float, tx: float, ty: float) -> bool:
+    """:func:`_segments_clear` for one segment, in scalar arithmetic: the same operations
+    in the same order (so the same answer), ~10x cheaper for a single segment."""
+    h, w = mask.shape
+
+    def ok(row: int, col: int) -> bool:
+        return 0 <= row < h and 0 <= col < w and bool(mask[row, col])
+
+    if not ok(math.floor(sy), math.floor(sx)) or not ok(math.floor(ty), math.floor(tx)):
+        return False
+    for s_a, t_a, s_o, t_o, vertical in ((sx, tx, sy, ty, True), (sy, ty, sx, tx, False)):
+        lo, hi = min(s_a, t_a), max(s_a, t_a)
+        first = math.floor(lo) + 1.0
+        count = max(int(math.ceil(hi) - first), 0)  # grid lines inside (lo, hi)
+        if count == 0:
+            continue
+        d = t_a - s_a
+        denom = 1.0 if abs(d) < 1e-12 else d
+        span = t_o - s_o
+        for i in range(count):
+            k = first + i
+            line = math.floor(s_o + ((k - s_a) / denom) * span)
+            ki = int(k)
+            if vertical:
+                if not (ok(line, ki - 1) and ok(line, ki)):
+                    return False
+            elif not (ok(ki - 1, line) and ok(ki, line)):
+                return False
+    return True
+
+
+def _axis_aligned_nearest(corners: np.ndarray, xs: np.ndarray, ys: np.ndarray
+                          ) -> tuple[np.ndarray, np.ndarray] | None:
+    """For a rectangle whose edges lie along the axes (exact zeros in its edge vectors),
+    :func:`_closest_on_rect`'s nearest x for each of ``xs`` and nearest y for each of
+    ``ys``, by the same arithmetic (a dot product with an exact zero term is the other
+    product, rounded once); None for any other rectangle."""
+    o = corners[0]
+    e0, e1 = corners[1] - o, corners[3] - o
+    if e0[1] == 0.0 and e1[0] == 0.0:
+        ex, ey, lx, ly = e0[0], e1[1], float(e0 @ e0), float(e1 @ e1)
+    elif e0[0] == 0.0 and e1[1] == 0.0:
+        ex, ey, lx, ly = e1[0], e0[1], float(e1 @ e1), float(e0 @ e0)
+    else:
+        return None
+    sx = np.clip((xs - o[0]) * ex / max(lx, 1e-12), 0.0, 1.0)
+    sy = np.clip((ys - o[1]) * ey / max(ly, 1e-12), 0.0, 1.0)
+    return o[0] + sx * ex + 0.0, o[1] + sy * ey + 0.0
 
 
 def _closest_on_rect(corners: np.ndarray, pts: np.ndarray) -> np.ndarray:

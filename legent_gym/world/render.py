@@ -94,6 +94,9 @@ class Renderer:
     def _ensure(self) -> None:
         if self._context is not None:
             _shared_gl_context(self.width, self.height)
+            # Every renderer has its own framebuffer in the one GL context, and another
+            # renderer may have bound its own since: bind ours, or we draw into theirs.
+            mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
             return
         _shared_gl_context(self.width, self.height)
         model = self.world.model

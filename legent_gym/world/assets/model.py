@@ -13,6 +13,7 @@ person stands to use it) facing +y. Units: metres.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Literal
 
 import numpy as np
@@ -46,8 +47,16 @@ class Part:
     def transformed(self, matrix: np.ndarray) -> Part:
         """A copy with vertices mapped by a 4x4 homogeneous transform."""
         v = self.vertices @ matrix[:3, :3].T + matrix[:3, 3]
-        faces = self.faces if np.linalg.det(matrix[:3, :3]) > 0 else self.faces[:, ::-1]
+        faces = self.faces if _det3(matrix[:3, :3].tolist()) > 0 else self.faces[:, ::-1]
         return Part(v, faces.copy(), self.rgba, self.collision, self.uv, self.texture, self.material)
+
+
+def _det3(m: list[list[float]]) -> float:
+    """Determinant of a 3x3 matrix given as nested lists (np.linalg.det costs ~10x more
+    for one small matrix, and asset factories transform thousands of parts)."""
+    return (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
 
 
 @dataclass
@@ -119,9 +128,17 @@ class AssetModel:
 
     def bounds(self) -> np.ndarray:
         """[[xmin, ymin, zmin], [xmax, ymax, zmax]] of all parts at the joints' zero."""
-        pts = [p.vertices + np.asarray(link.pos) for link in self.links for p in link.parts]
-        allv = np.concatenate(pts)
-        return np.stack([allv.min(axis=0), allv.max(axis=0)])
+        # Generation and the agent ask for the bounds of the same model many times: keep
+        # them, keyed by the link and part lists (models are immutable by convention; a
+        # replaced or extended list still gives fresh bounds). A copy goes out.
+        key = tuple((id(link.parts), len(link.parts), link.pos) for link in self.links)
+        cached = self.__dict__.get("_bounds_cache")
+        if cached is None or cached[0] != key:
+            pts = [p.vertices + np.asarray(link.pos) for link in self.links for p in link.parts]
+            allv = np.concatenate(pts)
+            cached = (key, np.stack([allv.min(axis=0), allv.max(axis=0)]))
+            self.__dict__["_bounds_cache"] = cached
+        return cached[1].copy()
 
     @property
     def size(self) -> np.ndarray:
@@ -134,7 +151,9 @@ class AssetModel:
     def scaled(self, scale: tuple[float, float, float]) -> AssetModel:
         """A copy with all geometry and annotations scaled (about the asset origin)."""
         s = np.asarray(scale, dtype=np.float64)
-        if np.allclose(s, 1.0):
+        # np.allclose(s, 1.0)'s test, without its overhead (every object of every house
+        # passes through here).
+        if all(abs(c - 1.0) <= 1e-08 + 1e-05 for c in s.tolist()):
             return self
         mat = np.diag([*s, 1.0])
         links = []
@@ -157,21 +176,44 @@ class AssetModel:
 # Low-poly primitive parts. Counts are kept small: triangles are what costs render time.
 
 
+_BOX_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=np.float64)
+_BOX_FACES = np.array([
+    [0, 1, 3], [0, 3, 2],  # -x
+    [4, 6, 7], [4, 7, 5],  # +x
+    [0, 4, 5], [0, 5, 1],  # -y
+    [2, 3, 7], [2, 7, 6],  # +y
+    [0, 2, 6], [0, 6, 4],  # -z
+    [1, 5, 7], [1, 7, 3],  # +z
+], dtype=np.int32)
+
+
 def box_part(center, size, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="box", material="plain") -> Part:
     """An axis-aligned box, 12 triangles."""
     c = np.asarray(center, dtype=np.float64)
     h = np.asarray(size, dtype=np.float64) / 2.0
-    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=np.float64)
-    v = c + corners * h
-    faces = np.array([
-        [0, 1, 3], [0, 3, 2],  # -x
-        [4, 6, 7], [4, 7, 5],  # +x
-        [0, 4, 5], [0, 5, 1],  # -y
-        [2, 3, 7], [2, 7, 6],  # +y
-        [0, 2, 6], [0, 6, 4],  # -z
-        [1, 5, 7], [1, 7, 3],  # +z
-    ], dtype=np.int32)
-    return Part(v, faces, tuple(rgba), collision, material=material)
+    v = c + _BOX_CORNERS * h
+    return Part(v, _BOX_FACES.copy(), tuple(rgba), collision, material=material)
+
+
+@lru_cache(maxsize=64)
+def _ring(segments: int) -> np.ndarray:
+    """Unit circle points (segments, 2), the first on +x (read-only: shared)."""
+    ang = np.linspace(0.0, 2 * np.pi, segments, endpoint=False)
+    ring = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    ring.flags.writeable = False
+    return ring
+
+
+@lru_cache(maxsize=64)
+def _cylinder_faces(segments: int) -> np.ndarray:
+    faces = []
+    nb, nt = 2 * segments, 2 * segments + 1
+    for i in range(segments):
+        j = (i + 1) % segments
+        faces += [[i, j, segments + j], [i, segments + j, segments + i], [nb, j, i], [nt, segments + i, segments + j]]
+    out = np.array(faces, dtype=np.int32)
+    out.flags.writeable = False
+    return out
 
 
 def cylinder_part(center, radius, height, rgba=(0.7, 0.7, 0.7, 1.0), *, segments=10,
@@ -179,27 +221,46 @@ def cylinder_part(center, radius, height, rgba=(0.7, 0.7, 0.7, 1.0), *, segments
     """A z-aligned cylinder (or a truncated cone with ``radius_top``) centred at ``center``."""
     c = np.asarray(center, dtype=np.float64)
     rt = radius if radius_top is None else radius_top
-    ang = np.linspace(0.0, 2 * np.pi, segments, endpoint=False)
-    ring = np.stack([np.cos(ang), np.sin(ang)], axis=1)
+    ring = _ring(segments)
     bottom = np.column_stack([ring * radius, np.full(segments, -height / 2)])
     top = np.column_stack([ring * rt, np.full(segments, height / 2)])
     v = np.concatenate([bottom, top, [[0, 0, -height / 2], [0, 0, height / 2]]]) + c
-    faces = []
-    nb, nt = 2 * segments, 2 * segments + 1
-    for i in range(segments):
-        j = (i + 1) % segments
-        faces += [[i, j, segments + j], [i, segments + j, segments + i], [nb, j, i], [nt, segments + i, segments + j]]
-    return Part(v, np.array(faces, dtype=np.int32), tuple(rgba), collision, material=material)
+    return Part(v, _cylinder_faces(segments).copy(), tuple(rgba), collision, material=material)
 
 
 def sphere_part(center, radius, rgba=(0.7, 0.7, 0.7, 1.0), *, scale=(1.0, 1.0, 1.0), subdivisions=1,
                 collision="hull", material="plain") -> Part:
     """An icosphere (80 triangles at one subdivision), optionally stretched into an ellipsoid."""
+    if subdivisions == 1:
+        # trimesh's icosphere with one subdivision, without building a Trimesh each time:
+        # the same arithmetic on its cached radius-independent arrays.
+        base, unit, scalar, faces = _unit_icosphere()
+        vertices = base + unit * (float(radius) - scalar).reshape((-1, 1))
+    else:
+        import trimesh
+
+        mesh = trimesh.creation.icosphere(subdivisions=subdivisions, radius=radius)
+        vertices, faces = np.asarray(mesh.vertices), mesh.faces
+    v = vertices * np.asarray(scale) + np.asarray(center, dtype=np.float64)
+    return Part(v, np.asarray(faces, dtype=np.int32), tuple(rgba), collision, material=material)
+
+
+@lru_cache(maxsize=1)
+def _unit_icosphere() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """trimesh.creation.icosphere(1)'s inputs to its radius step: the subdivided
+    icosahedron's vertices, their unit directions and lengths, and the faces."""
     import trimesh
 
-    mesh = trimesh.creation.icosphere(subdivisions=subdivisions, radius=radius)
-    v = np.asarray(mesh.vertices) * np.asarray(scale) + np.asarray(center, dtype=np.float64)
-    return Part(v, np.asarray(mesh.faces, dtype=np.int32), tuple(rgba), collision, material=material)
+    ico = trimesh.creation.icosahedron()
+    ico._validate = False
+    ico = ico.subdivide()
+    base = np.array(ico.vertices, dtype=np.float64)
+    scalar = np.sqrt(np.dot(base**2, [1, 1, 1]))
+    unit = base / scalar.reshape((-1, 1))
+    faces = np.array(ico.faces)
+    for a in (base, unit, scalar, faces):
+        a.flags.writeable = False
+    return base, unit, scalar, faces
 
 
 def mesh_part(vertices, faces, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="hull", material="plain") -> Part:

@@ -20,6 +20,7 @@ pieces; so conditions get space before decoration does.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -35,6 +36,7 @@ from legent_gym.world.navigation import (
     door_leaf_open_segment,
     door_passable,
     leaf_half_thickness,
+    least_square_distance,
     walkable_from_free,
 )
 
@@ -276,6 +278,7 @@ class RoomSpace:
     mouths: np.ndarray = field(default_factory=lambda: np.zeros((0, 4)))
     pieces: list[int] = field(default_factory=list)
     reach: RoomReach | None = None
+    _edges: list | None = field(default=None, repr=False, compare=False)  # the inner outline is fixed
 
     @property
     def bbox(self) -> np.ndarray:
@@ -284,6 +287,11 @@ class RoomSpace:
     def edges(self):
         """Inner wall edges: (start, unit direction, inward normal, length, start convex,
         end convex); counter-clockwise, so the inward normal is the left normal."""
+        if self._edges is None:
+            self._edges = self._compute_edges()
+        return self._edges
+
+    def _compute_edges(self):
         poly = self.inner
         n = len(poly)
         out = []
@@ -305,6 +313,10 @@ def _convex(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> bool:
 def _quarter_of(normal: np.ndarray) -> int:
     """Quarter turns that point an asset's front (+y) along ``normal``."""
     return {(0, 1): 0, (-1, 0): 1, (0, -1): 2, (1, 0): 3}[(int(round(normal[0])), int(round(normal[1])))]
+
+
+#: ndimage.label's default structure, made once (it is rebuilt on every call otherwise).
+_FOUR_CONNECTED = ndimage.generate_binary_structure(2, 1)
 
 
 class RoomReach:
@@ -335,6 +347,16 @@ class RoomReach:
         self.floor &= ~leaves
         self.occupied = np.zeros(shape, dtype=bool)
         self.doors = [self._cells(r) for r in space.mouths]
+        # Walkable floor is kept up to date as pieces come and go rather than recomputed
+        # with a distance transform for every check: a cell is walkable when no blocked
+        # cell lies within squared distance ``_n`` (cells) of it; squared distances between
+        # cells are integers, so this is exactly ``walkable_from_free`` of the free floor.
+        radius = AGENT_RADIUS + CHECK_MARGIN
+        self._n = least_square_distance(radius + 0.5 * resolution, resolution)
+        self._base_walk = walkable_from_free(self.floor, radius, resolution)
+        self._near_pieces = np.zeros(shape, dtype=bool)
+        #: target rectangle (bytes) -> a cell that reached it once
+        self._witness: dict[bytes, tuple[int, int]] = {}
 
     def _cells(self, rect: np.ndarray):
         return self.raster.window(rect[0] + EPS, rect[1] + EPS, rect[2] - EPS, rect[3] - EPS)
@@ -345,12 +367,38 @@ class RoomReach:
         if win is None:
             return
         sl, xs, ys = win
-        self.occupied[sl] |= (xs > rect[0]) & (xs < rect[2]) & (ys > rect[1]) & (ys < rect[3])
+        inside_x = (xs[0] > rect[0]) & (xs[0] < rect[2])
+        inside_y = (ys[:, 0] > rect[1]) & (ys[:, 0] < rect[3])
+        self.occupied[sl] |= inside_y[:, None] & inside_x[None, :]
+        if inside_x.any() and inside_y.any():
+            cols, rows = np.nonzero(inside_x)[0] + sl[1].start, np.nonzero(inside_y)[0] + sl[0].start
+            self._block_near(int(rows[0]), int(rows[-1]), int(cols[0]), int(cols[-1]))
+
+    def _block_near(self, r0: int, r1: int, c0: int, c1: int) -> None:
+        """Cells no longer walkable once cells r0..r1 x c0..c1 are blocked: those within
+        squared distance ``_n`` (cells) of the block."""
+        m = math.isqrt(max(self._n - 1, 0))
+        h, w = self.occupied.shape
+        rows = np.arange(max(r0 - m, 0), min(r1 + m + 1, h))
+        cols = np.arange(max(c0 - m, 0), min(c1 + m + 1, w))
+        if len(rows) == 0 or len(cols) == 0:
+            return
+        dy = np.maximum(np.maximum(r0 - rows, rows - r1), 0)
+        dx = np.maximum(np.maximum(c0 - cols, cols - c1), 0)
+        self._near_pieces[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1] |= (dy * dy)[:, None] + (dx * dx)[None, :] < self._n
+
+    def clear(self) -> None:
+        """Remove every footprint."""
+        self.occupied[:] = False
+        self._near_pieces[:] = False
+
+    def walkable(self) -> np.ndarray:
+        """Where the agent can stand: ``walkable_from_free(floor & ~occupied)``."""
+        return self._base_walk & ~self._near_pieces
 
     def ok(self, targets: list[np.ndarray]) -> bool:
         """Doors linked by walkable floor, and each target rectangle within reach of it."""
-        walk = walkable_from_free(self.floor & ~self.occupied, AGENT_RADIUS + CHECK_MARGIN, self.res)
-        labels, n = ndimage.label(walk)
+        labels, n = ndimage.label(self.walkable(), structure=_FOUR_CONNECTED)
         if n == 0:
             return False
         common: set[int] | None = None
@@ -364,14 +412,21 @@ class RoomReach:
             common = {int(np.argmax(np.bincount(labels[labels > 0])))}
         if not common:
             return False
-        main = np.isin(labels, sorted(common))
+        main = labels == next(iter(common)) if len(common) == 1 else np.isin(labels, sorted(common))
         # No sizeable walkable pocket cut off from the doors (half a square metre).
-        sizes = np.bincount(labels[~main & (labels > 0)].ravel(), minlength=n + 1)
+        sizes = np.bincount(labels.ravel(), minlength=n + 1)
+        sizes[sorted(common)] = 0
         if (sizes[1:] * self.res ** 2 > POCKET_AREA).any():
             return False
         return all(self._reachable(main, r) for r in targets)
 
     def _reachable(self, main: np.ndarray, rect: np.ndarray) -> bool:
+        # A cell that reached this rectangle before still does while it is walkable and
+        # linked to the doors (distance and sight do not change; only ``main`` shrinks).
+        key = rect.tobytes()
+        witness = self._witness.get(key)
+        if witness is not None and main[witness]:
+            return True
         win = self.raster.window(rect[0] - REACH, rect[1] - REACH, rect[2] + REACH, rect[3] + REACH)
         if win is None:
             return False
@@ -379,8 +434,12 @@ class RoomReach:
         nx = np.clip(xs, rect[0], rect[2])
         ny = np.clip(ys, rect[1], rect[3])
         near = main[sl] & ((nx - xs) ** 2 + (ny - ys) ** 2 <= REACH * REACH)
-        if not near.any() or not self.concave:
-            return bool(near.any())
+        if not near.any():
+            return False
+        if not self.concave:
+            r, c = np.unravel_index(int(np.argmax(near)), near.shape)
+            self._witness[key] = (int(r) + sl[0].start, int(c) + sl[1].start)
+            return True
         # An L-shaped room: the reach must not pass behind its inner corner.
         rr, cc = np.nonzero(near)
         px, py = xs[0, cc], ys[rr, 0]
@@ -390,7 +449,12 @@ class RoomReach:
         sy = py[:, None] + (qy - py)[:, None] * t * 0.97
         col = np.clip(((sx - self.raster.x0) / self.res).astype(np.int64), 0, self.outside.shape[1] - 1)
         row = np.clip(((sy - self.raster.y0) / self.res).astype(np.int64), 0, self.outside.shape[0] - 1)
-        return bool((~self.outside[row, col].any(axis=1)).any())
+        seen = ~self.outside[row, col].any(axis=1)
+        if not seen.any():
+            return False
+        k = int(np.argmax(seen))
+        self._witness[key] = (int(rr[k]) + sl[0].start, int(cc[k]) + sl[1].start)
+        return True
 
 
 def door_mouth(square: np.ndarray, width: float) -> np.ndarray:
@@ -492,9 +556,10 @@ class Furnisher:
             spots = [(s, 10.0 if placement == "corner" else 0.0) for s in ends]
             spots += [(s, 10.0 if placement == "wall" else 0.0)
                       for s in [0.5 * (s_min + s_max), *self.rng.uniform(s_min, s_max, n_random)]]
-            for s, pref in spots:
-                o = p0 + e * s + n * (WALL_GAP - local[1])
-                poses.append((o[0], o[1], q, pref))
+            # All spots of the edge at once (the same arithmetic, element by element).
+            along = np.array([s for s, _ in spots], dtype=np.float64)[:, None]
+            o = p0 + e * along + n * (WALL_GAP - local[1])
+            poses.extend(zip(o[:, 0].tolist(), o[:, 1].tolist(), [q] * len(spots), [pref for _, pref in spots]))
         if placement == "middle":
             bb = space.bbox
             pts = np.column_stack([self.rng.uniform(bb[0], bb[2], 40), self.rng.uniform(bb[1], bb[3], 40)])
@@ -631,7 +696,7 @@ class Furnisher:
             space.pieces.pop()
             if piece.category in self.caps:
                 self.caps[piece.category] += 1
-        space.reach.occupied[:] = False
+        space.reach.clear()
         for k in space.pieces:
             if self.pieces[k].on_floor:
                 space.reach.add(self.pieces[k].rect)

@@ -16,7 +16,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from scipy import ndimage
 
 from legent_gym.world.generation.conditions import (
     Catalog,
@@ -51,7 +50,7 @@ from legent_gym.world.generation.small_objects import (
 )
 from legent_gym.world.generation.style import ceiling_light, light_point, room_surfaces
 from legent_gym.world.generation.validate import check_house
-from legent_gym.world.navigation import NavGrid
+from legent_gym.world.navigation import NavGrid, clearance_at_least
 from legent_gym.world.scene import ObjectInstance, Room, Scene, Spawn
 
 #: Extra clearance (beyond the agent radius) preferred around spawn points, metres.
@@ -318,8 +317,8 @@ def place_spawns(nav: NavGrid, component: int, rng: np.random.Generator, *, user
     """Agent and user on walkable floor of one component, preferably with some room around
     them, at least ``min_distance`` apart."""
     ok = nav.labels == component
-    clearance = ndimage.distance_transform_edt(nav.free) * nav.resolution
-    comfy = ok & (clearance >= nav.agent_radius + SPAWN_CLEARANCE + nav.resolution / 2)
+    comfy = ok & clearance_at_least(nav.free, nav.agent_radius + SPAWN_CLEARANCE + nav.resolution / 2,
+                                    nav.resolution)
     cells = np.argwhere(comfy if comfy.any() else ok)
     if len(cells) == 0:
         raise AttemptFailed("no walkable floor for the agent")

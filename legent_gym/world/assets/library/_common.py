@@ -10,6 +10,7 @@ frame, so only their origin moves.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from functools import lru_cache
 
 import numpy as np
 
@@ -134,15 +135,22 @@ WHITE: RGBA = (0.95, 0.95, 0.94, 1.0)
 
 def pick(rng: np.random.Generator, palette: Palette, jitter: float = 0.06) -> RGBA:
     """A palette colour with a small brightness jitter."""
-    rgb = np.asarray(palette[int(rng.integers(len(palette)))], dtype=np.float64)
-    rgb = np.clip(rgb * (1.0 + rng.uniform(-jitter, jitter)), 0.0, 1.0)
-    return (float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0)
+    # Plain floats, not a numpy array: the same IEEE arithmetic at a fraction of the cost
+    # (factories pick thousands of colours while houses are generated).
+    r, g, b = palette[int(rng.integers(len(palette)))]
+    f = 1.0 + rng.uniform(-jitter, jitter)
+    return (_unit(float(r) * f), _unit(float(g) * f), _unit(float(b) * f), 1.0)
+
+
+def _unit(c: float) -> float:
+    """``c`` clipped to [0, 1] (as np.clip does for finite values)."""
+    return 0.0 if c < 0.0 else (1.0 if c > 1.0 else c)
 
 
 def shade(rgba: RGBA, factor: float) -> RGBA:
     """A darker (< 1) or lighter (> 1) version of a colour, e.g. for trim or handles."""
-    rgb = np.clip(np.asarray(rgba[:3]) * factor, 0.0, 1.0)
-    return (float(rgb[0]), float(rgb[1]), float(rgb[2]), rgba[3])
+    f = float(factor)
+    return (_unit(float(rgba[0]) * f), _unit(float(rgba[1]) * f), _unit(float(rgba[2]) * f), rgba[3])
 
 
 # ---------------------------------------------------------------------------------------
@@ -185,18 +193,43 @@ def lathe(profile: Sequence[tuple[float, float]], rgba: RGBA, material: str, *,
     inside); a point with radius 0 is a pole, and an open end is capped with a flat disc,
     the first facing down and the last facing up, so the surface is always closed.
     """
-    ang = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
-    ring = np.stack([np.cos(ang) * scale_xy[0], np.sin(ang) * scale_xy[1]], axis=1)
+    ring = _lathe_ring(segments, float(scale_xy[0]), float(scale_xy[1]))
     verts: list[np.ndarray] = []
-    rings: list[list[int]] = []  # vertex indices per profile point; one index for a pole
     for r, z in profile:
-        start = sum(len(v) for v in verts)
         if r > 1e-9:
             verts.append(np.column_stack([ring * r, np.full(segments, z)]))
-            rings.append(list(range(start, start + segments)))
         else:
             verts.append(np.array([[0.0, 0.0, z]]))
+    if profile[0][0] > 1e-9:
+        verts.append(np.array([[0.0, 0.0, profile[0][1]]]))
+    if profile[-1][0] > 1e-9:
+        verts.append(np.array([[0.0, 0.0, profile[-1][1]]]))
+    v = np.concatenate(verts) + np.asarray(center, dtype=np.float64)
+    faces = _lathe_faces(segments, tuple(r > 1e-9 for r, _ in profile))
+    return Part(v, faces.copy(), rgba, collision, material=material)
+
+
+@lru_cache(maxsize=256)
+def _lathe_ring(segments: int, sx: float, sy: float) -> np.ndarray:
+    ang = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    ring = np.stack([np.cos(ang) * sx, np.sin(ang) * sy], axis=1)
+    ring.flags.writeable = False
+    return ring
+
+
+@lru_cache(maxsize=256)
+def _lathe_faces(segments: int, round_points: tuple[bool, ...]) -> np.ndarray:
+    """Faces of a :func:`lathe` surface: they depend only on the segment count and on which
+    profile points are rings (radius > 0) and which are poles."""
+    rings: list[list[int]] = []  # vertex indices per profile point; one index for a pole
+    start = 0
+    for is_ring in round_points:
+        if is_ring:
+            rings.append(list(range(start, start + segments)))
+            start += segments
+        else:
             rings.append([start] * segments)
+            start += 1
     faces: list[list[int]] = []
     for lower, upper in zip(rings[:-1], rings[1:]):
         for i in range(segments):
@@ -205,16 +238,15 @@ def lathe(profile: Sequence[tuple[float, float]], rgba: RGBA, material: str, *,
                 faces.append([lower[i], lower[j], upper[j]])
             if upper[i] != upper[j]:
                 faces.append([lower[i], upper[j], upper[i]])
-    n = sum(len(v) for v in verts)
-    if profile[0][0] > 1e-9:
-        verts.append(np.array([[0.0, 0.0, profile[0][1]]]))
+    n = start
+    if round_points[0]:
         faces += [[n, rings[0][(i + 1) % segments], rings[0][i]] for i in range(segments)]
         n += 1
-    if profile[-1][0] > 1e-9:
-        verts.append(np.array([[0.0, 0.0, profile[-1][1]]]))
+    if round_points[-1]:
         faces += [[n, rings[-1][i], rings[-1][(i + 1) % segments]] for i in range(segments)]
-    v = np.concatenate(verts) + np.asarray(center, dtype=np.float64)
-    return Part(v, np.array(faces, dtype=np.int32), rgba, collision, material=material)
+    out = np.array(faces, dtype=np.int32)
+    out.flags.writeable = False
+    return out
 
 
 def transformed(part: Part, *, rotate_x: float = 0.0, rotate_y: float = 0.0,
@@ -238,12 +270,22 @@ def flatten_bottom(part: Part, depth: float) -> Part:
     return Part(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of (N, 3) arrays: np.cross's arithmetic without its
+    general-axis overhead."""
+    out = np.empty_like(a)
+    out[:, 0] = a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1]
+    out[:, 1] = a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2]
+    out[:, 2] = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    return out
+
+
 def volume(parts: Iterable[Part]) -> float:
     """Enclosed volume (m^3) of closed, outward-facing parts, by the divergence theorem."""
     total = 0.0
     for p in parts:
         tri = p.vertices[p.faces]
-        total += float(np.einsum("ij,ij->i", tri[:, 0], np.cross(tri[:, 1], tri[:, 2])).sum()) / 6.0
+        total += float(np.einsum("ij,ij->i", tri[:, 0], _cross(tri[:, 1], tri[:, 2])).sum()) / 6.0
     return total
 
 
@@ -259,6 +301,19 @@ def top_receptacle(name: str, lo, hi, *, inset: float = 0.03, link: str = "base"
                       ((x1 - x0) / 2 - inset, (y1 - y0) / 2 - inset), z1, link, float(clearance))
 
 
+def _transformed_parts(parts: list[Part], vertices: np.ndarray, matrix: np.ndarray) -> list[Part]:
+    """``[p.transformed(matrix) for p in parts]`` for a proper (det > 0) transform, in one
+    matrix product over ``vertices`` (the parts' vertices concatenated): row by row the
+    same arithmetic."""
+    moved = vertices @ matrix[:3, :3].T + matrix[:3, 3]
+    out, start = [], 0
+    for p in parts:
+        n = len(p.vertices)
+        out.append(Part(moved[start:start + n], p.faces.copy(), p.rgba, p.collision, p.uv, p.texture, p.material))
+        start += n
+    return out
+
+
 def finish(asset_id: str, base: list[Part], *, moving: Sequence[Link] = (),
            receptacles: Sequence[Receptacle] = (), **annotations) -> AssetModel:
     """Assemble the model and move it into the asset frame.
@@ -266,13 +321,16 @@ def finish(asset_id: str, base: list[Part], *, moving: Sequence[Link] = (),
     ``base`` parts and base receptacles are shifted; moving links (doors, drawers) keep
     their parts and receptacles in their own frame and only their origin is shifted.
     """
-    links = [Link("base", base), *moving]
-    pts = np.concatenate([p.vertices + np.asarray(link.pos) for link in links for p in link.parts])
+    # One array per link rather than per part: the same sums, far fewer numpy calls.
+    base_v = np.concatenate([p.vertices for p in base]) if base else np.zeros((0, 3))
+    # (+ 0.0 as the base link's origin was added before: -0.0 becomes 0.0, as it did.)
+    pts = np.concatenate([base_v + 0.0] + [np.concatenate([p.vertices for p in m.parts]) + np.asarray(m.pos)
+                                     for m in moving if m.parts])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     shift = np.array([-(lo[0] + hi[0]) / 2, -(lo[1] + hi[1]) / 2, -lo[2]])
     move = np.eye(4)
     move[:3, 3] = shift
-    out = [Link("base", [p.transformed(move) for p in base])]
+    out = [Link("base", _transformed_parts(base, base_v, move))]
     out += [Link(m.name, m.parts, tuple(float(c) for c in np.asarray(m.pos) + shift), m.joint)
             for m in moving]
     recs = [r if r.link != "base" else

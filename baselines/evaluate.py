@@ -1,0 +1,147 @@
+"""The shared evaluation loop: a policy, an environment id, a number of episodes, a seed.
+
+A policy is any object with ``reset(instruction)`` (a new episode begins) and
+``act(observation) -> str`` (the next step as action code, e.g. ``"move_forward(1.5)"``);
+see :class:`Policy`. Episode ``i`` resets the environment with seed ``seed + i``, so the
+houses, goals and instructions depend on the seed only, and a policy whose own randomness
+is seeded (through an optional ``seed(seed)`` method, called once before the first
+episode) gives the same result every run::
+
+    from baselines.evaluate import RandomPolicy, evaluate
+    evaluate(RandomPolicy(), "Legent/ComeHere-OneRoom-v0", episodes=100, seed=0)  # -> 0.41
+
+Success is the environment's own rule (``info["success"]`` when the episode ends), under
+its step cap (25 actions, the paper's). From the shell::
+
+    python baselines/evaluate.py --policy random --env Legent/ComeHere-OneRoom-v0 --episodes 100
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from typing import Any, Protocol, runtime_checkable
+
+import gymnasium as gym
+import numpy as np
+
+import legent_gym  # noqa: F401  (registers the environments)
+from legent_gym.agent.actions import ActionLimits
+from legent_gym.wrappers.sb3 import flat_action_text
+
+
+@runtime_checkable
+class Policy(Protocol):
+    """What :func:`evaluate` drives: told the instruction, then asked for one step at a time."""
+
+    def reset(self, instruction: str) -> None: ...
+
+    def act(self, observation: dict[str, Any]) -> str: ...
+
+
+@dataclass(frozen=True)
+class EpisodeResult:
+    """One evaluated episode."""
+
+    seed: int
+    instruction: str
+    success: bool
+    steps: int
+    episode_return: float
+    house_seed: int | None
+    final_distance: float | None  # the task's distance to its goal at the end (metres)
+
+
+class RandomPolicy:
+    """Uniformly random flat actions, the same distribution as a random agent in
+    :class:`~legent_gym.wrappers.FlatActions`: move 0..2 m, turn and tilt +-90 degrees, and
+    ``interact()`` a quarter of the time. The baseline every learned policy must beat."""
+
+    def __init__(self, seed: int = 0, limits: ActionLimits | None = None):
+        self.limits = limits or ActionLimits()
+        self.seed(seed)
+
+    def seed(self, seed: int) -> None:
+        self._rng = np.random.default_rng(seed)
+
+    def reset(self, instruction: str) -> None:
+        pass  # it ignores the instruction, by definition
+
+    def act(self, observation: dict[str, Any]) -> str:
+        return flat_action_text(self._rng.uniform(-1.0, 1.0, 4), self.limits)
+
+
+def _check_counts(episodes: int, seed: int) -> None:
+    if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
+        raise ValueError(f"episodes must be a positive integer, got {episodes!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+
+
+def run_episodes(policy: Policy, env_id: str, episodes: int, seed: int,
+                 env_kwargs: dict[str, Any] | None = None) -> list[EpisodeResult]:
+    """Run ``episodes`` episodes of ``policy`` on ``gym.make(env_id, **env_kwargs)``.
+
+    Episode ``i`` uses reset seed ``seed + i``. The policy's ``seed(seed)`` is called first
+    when it has one. Raises ``TypeError`` if the policy is not a :class:`Policy` or returns
+    anything but a ``str``.
+    """
+    if not isinstance(policy, Policy):
+        raise TypeError(f"policy must have reset(instruction) and act(observation), got {type(policy).__name__}")
+    _check_counts(episodes, seed)
+    if callable(getattr(policy, "seed", None)):
+        policy.seed(seed)
+    env = gym.make(env_id, **(env_kwargs or {}))
+    results = []
+    try:
+        for i in range(episodes):
+            obs, info = env.reset(seed=seed + i)
+            policy.reset(obs["instruction"])
+            total, steps, done = 0.0, 0, False
+            while not done:
+                action = policy.act(obs)
+                if not isinstance(action, str):
+                    raise TypeError(f"{type(policy).__name__}.act() must return action code (a str), "
+                                    f"got {type(action).__name__}")
+                obs, reward, terminated, truncated, info = env.step(action)
+                total += float(reward)
+                steps += 1
+                done = terminated or truncated
+            results.append(EpisodeResult(seed + i, obs["instruction"], bool(info["success"]), steps, total,
+                                         info.get("house_seed"), info.get("distance_to_goal")))
+    finally:
+        env.close()
+    return results
+
+
+def evaluate(policy: Policy, env_id: str, episodes: int, seed: int,
+             env_kwargs: dict[str, Any] | None = None) -> float:
+    """The success rate of ``policy`` over ``episodes`` seeded episodes (see :func:`run_episodes`)."""
+    results = run_episodes(policy, env_id, episodes, seed, env_kwargs)
+    return sum(r.success for r in results) / len(results)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description="Evaluate a baseline policy (success rate over seeded episodes).")
+    parser.add_argument("--policy", choices=["random"], default="random")
+    parser.add_argument("--env", default="Legent/ComeHere-OneRoom-v0")
+    parser.add_argument("--episodes", type=int, default=100)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--width", type=int, default=None)
+    parser.add_argument("--height", type=int, default=None)
+    parser.add_argument("--json", action="store_true", help="print every episode as JSON")
+    args = parser.parse_args(argv)
+    env_kwargs = {k: v for k, v in (("width", args.width), ("height", args.height)) if v is not None}
+    results = run_episodes(RandomPolicy(), args.env, args.episodes, args.seed, env_kwargs)
+    if args.json:
+        for r in results:
+            print(json.dumps(asdict(r)))
+    rate = sum(r.success for r in results) / len(results)
+    print(f"{args.policy} on {args.env}: success {rate:.3f} over {len(results)} episodes (seed {args.seed})")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,437 @@
+"""Collecting successful trajectories in parallel, resumable after any interruption.
+
+Attempt ``k`` resets the env with seed ``seed + k``; attempts are judged in order and the
+successful ones become episodes ``0, 1, 2, ...`` until there are ``episodes`` of them, so the
+dataset depends on the seed alone, not on the number of workers or on interruptions.
+Failed attempts are counted, not kept (as in LEGENT).
+
+Layout of the output directory::
+
+    progress.json            how far the run got (rewritten atomically after each episode)
+    minari/<dataset_id>/     the Minari dataset (MINARI_DATASETS_PATH=OUT/minari)
+    legent/                  LEGENT's format and interleaved.jsonl (legent_format.py)
+    video/<id>.mp4           captioned H.264 video, video/<id>_map.png the path from above
+
+Each episode is committed in order: its trajectory folder, its video, its Minari episode,
+then ``progress.json``. Whatever a crash interrupts is past the count in ``progress.json``
+and is dropped and redone by the next run, which gives the same episode again (same seed).
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import math
+import multiprocessing
+import os
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor
+from contextlib import closing
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+from legent_gym.atomic import atomic_write_bytes, atomic_write_text
+from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
+from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
+
+FORMATS = ("minari", "legent", "video")
+PROGRESS_FILE = "progress.json"
+PROGRESS_VERSION = 1
+#: The aggregate files are rewritten at most this often (and at the end).
+CHECKPOINT_SECONDS = 2.0
+
+
+class CollectError(Exception):
+    """A problem with the request or the output directory (printed without a traceback)."""
+
+
+@dataclass(frozen=True)
+class CollectConfig:
+    env_id: str
+    episodes: int
+    out: str
+    formats: tuple[str, ...] = ("minari", "legent")
+    workers: int = 1
+    seed: int = 0
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    #: ``"expert"`` (plays ``info["expert_action"]``) or ``"module:function"``, a callable
+    #: ``(obs, info) -> action`` that worker processes can import. The env is always wrapped
+    #: in ``ExpertInfo``, so any policy can read the expert's action.
+    policy: str = EXPERT
+    window: int = DEFAULT_WINDOW
+    dataset_id: str | None = None
+    #: Stop after this many attempts in all (default ``10 * episodes + 100``).
+    max_attempts: int | None = None
+
+    def resolved_dataset_id(self) -> str:
+        if self.dataset_id:
+            return self.dataset_id
+        name = self.env_id.split("/")[-1]
+        name = name.rsplit("-v", 1)[0] if "-v" in name else name
+        return f"legent/{name}/{'expert' if self.policy == EXPERT else 'policy'}-v0"
+
+    def identity(self) -> dict[str, Any]:
+        """What a resumed run must share with the first (the episode count may grow)."""
+        return {"env_id": self.env_id, "env_kwargs": self.env_kwargs, "seed": self.seed,
+                "formats": sorted(self.formats), "policy": self.policy, "window": self.window,
+                "dataset_id": self.resolved_dataset_id()}
+
+    def attempt_limit(self) -> int:
+        return self.max_attempts if self.max_attempts is not None else 10 * self.episodes + 100
+
+
+@dataclass
+class CollectSummary:
+    out: str
+    episodes: int
+    new_episodes: int
+    failures: int
+    attempts: int
+    seconds: float
+    dataset_id: str | None
+
+    @property
+    def success_rate(self) -> float:
+        return self.episodes / self.attempts if self.attempts else math.nan
+
+    @property
+    def episodes_per_second(self) -> float:
+        return self.new_episodes / self.seconds if self.seconds > 0 else math.nan
+
+
+@dataclass
+class _Progress:
+    committed: int = 0
+    next_attempt: int = 0
+    failures: int = 0
+    total_steps: int = 0
+    complete: bool = False
+
+
+# -- workers ---------------------------------------------------------------------------------
+@dataclass
+class AttemptResult:
+    attempt: int
+    success: bool
+    steps: int
+    episode: Episode | None = None  # only for successes
+    pngs: list[bytes] | None = None
+    video: bytes | None = None
+    map_png: bytes | None = None
+
+
+class _Worker:
+    """One env and one policy; encodes images and video where it runs (in parallel)."""
+
+    def __init__(self, env_id: str, env_kwargs: dict, policy: str | Callable, formats: tuple[str, ...]):
+        self.env_id, self.formats = env_id, formats
+        # Every policy sees info["expert_action"] (a noisy expert or DAgger-style mixing needs it).
+        self.env = make_env(env_id, env_kwargs, expert=True)
+        self.policy = resolve_policy(policy) if isinstance(policy, str) else policy
+
+    def run(self, attempt: int, seed: int) -> AttemptResult:
+        episode = record_episode(self.env, self.policy, seed=seed, attempt=attempt, env_id=self.env_id)
+        if not episode.success:
+            return AttemptResult(attempt, False, episode.steps)
+        result = AttemptResult(attempt, True, episode.steps, episode)
+        if "legent" in self.formats:
+            result.pngs = episode_pngs(episode)
+        if "video" in self.formats:
+            from legent_gym.data.video import episode_map, episode_video
+
+            result.video = episode_video(episode)
+            result.map_png = encode_png(episode_map(self.env.unwrapped.ctx.scene, episode))
+        if "minari" not in self.formats:
+            episode.observations = []  # the images travel as PNGs; spare the pipe
+        return result
+
+    def close(self) -> None:
+        self.env.close()
+
+
+_worker: _Worker | None = None
+
+
+def _exit_with(parent_pid: int) -> None:
+    """Leave when the collecting process is gone (killed with -9 it cannot tell us):
+    an orphaned worker would otherwise wait for work forever and keep the forkserver alive."""
+    while True:
+        time.sleep(1.0)
+        try:
+            os.kill(parent_pid, 0)
+        except ProcessLookupError:
+            os._exit(0)
+
+
+def _init_worker(parent_pid: int, *args) -> None:
+    global _worker
+    threading.Thread(target=_exit_with, args=(parent_pid,), daemon=True, name="parent-watch").start()
+    _worker = _Worker(*args)
+
+
+def _run_attempt(attempt: int, seed: int) -> AttemptResult:
+    return _worker.run(attempt, seed)
+
+
+def _attempt_results(config: CollectConfig, policy, start: int, limit: int) -> Iterator[AttemptResult]:
+    """Results of attempts ``start, start + 1, ...`` in order (computed ahead in parallel)."""
+    worker_args = (config.env_id, config.env_kwargs, policy, tuple(config.formats))
+    if config.workers == 1:
+        worker = _Worker(*worker_args)
+        try:
+            for attempt in range(start, limit):
+                yield worker.run(attempt, config.seed + attempt)
+        finally:
+            worker.close()
+        return
+    # forkserver: a forked child of a process holding an EGL context hangs (ENGINEERING-NOTES).
+    pool = ProcessPoolExecutor(config.workers, mp_context=multiprocessing.get_context("forkserver"),
+                               initializer=_init_worker, initargs=(os.getpid(), *worker_args))
+    pending: deque = deque()
+    try:
+        attempt = start
+        while pending or attempt < limit:
+            while attempt < limit and len(pending) < 2 * config.workers:
+                pending.append(pool.submit(_run_attempt, attempt, config.seed + attempt))
+                attempt += 1
+            yield pending.popleft().result()
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+
+
+# -- the run ---------------------------------------------------------------------------------
+def _check(config: CollectConfig, policy: Callable | None) -> None:
+    """Fail early, in this process, with a message naming what is wrong."""
+    import gymnasium as gym
+
+    import legent_gym  # noqa: F401  (registers the env ids)
+
+    if config.episodes < 1:
+        raise CollectError(f"--episodes must be >= 1, got {config.episodes}")
+    if config.workers < 1:
+        raise CollectError(f"--workers must be >= 1, got {config.workers}")
+    if config.window < 1:
+        raise CollectError(f"--window must be >= 1, got {config.window}")
+    unknown = sorted(set(config.formats) - set(FORMATS))
+    if unknown or not config.formats:
+        raise CollectError(f"unknown format(s) {', '.join(unknown) or '(none given)'}; "
+                           f"choose from {', '.join(FORMATS)}")
+    try:
+        gym.spec(config.env_id)
+    except gym.error.Error as err:
+        raise CollectError(f"unknown env id {config.env_id!r}: {err}") from None
+    try:
+        gym.make(config.env_id, **config.env_kwargs).close()  # no reset: cheap, no OpenGL
+    except (TypeError, ValueError) as err:
+        raise CollectError(f"cannot make {config.env_id} with {config.env_kwargs}: {err}") from None
+    if policy is None:
+        try:
+            resolve_policy(config.policy)
+        except (ValueError, ImportError) as err:
+            raise CollectError(f"--policy {config.policy}: {err}") from None
+    if "minari" in config.formats:
+        from legent_gym.data.minari_store import check_dataset_id
+
+        try:
+            check_dataset_id(config.resolved_dataset_id())
+        except ValueError as err:
+            raise CollectError(str(err)) from None
+
+
+def _lock(out: Path):
+    handle = open(out / ".lock", "w")  # noqa: SIM115  (held for the whole run)
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        handle.close()
+        raise CollectError(f"another collect is writing to {out}") from None
+    return handle
+
+
+def _load_progress(out: Path, config: CollectConfig) -> _Progress | None:
+    path = out / PROGRESS_FILE
+    if not path.exists():
+        return None
+    saved = json.loads(path.read_text())
+    if saved.get("version") != PROGRESS_VERSION:
+        raise CollectError(f"{path} was written by another version of legent-gym collect")
+    if saved["config"] != config.identity():
+        diff = {k: (saved["config"].get(k), v) for k, v in config.identity().items() if saved["config"].get(k) != v}
+        raise CollectError(f"{out} holds a collection made with other options "
+                           f"({', '.join(f'{k}: was {a!r}, now {b!r}' for k, (a, b) in diff.items())}); "
+                           "resume with the same options or use a new --out")
+    return _Progress(**saved["progress"])
+
+
+def _save_progress(out: Path, config: CollectConfig, progress: _Progress, durable: bool = True) -> None:
+    atomic_write_text(out / PROGRESS_FILE, json.dumps(
+        {"version": PROGRESS_VERSION, "config": config.identity(), "episodes_requested": config.episodes,
+         "progress": asdict(progress)}, indent=1), durable=durable)
+
+
+def _clean_videos(video_dir: Path, committed: int) -> None:
+    if not video_dir.exists():
+        return
+    for child in video_dir.iterdir():
+        stem = child.name.split("_")[0].split(".")[0]
+        if child.name.startswith(".") or (stem.isdigit() and int(stem) >= committed):
+            child.unlink()
+
+
+def _open_minari(out: Path, config: CollectConfig, progress: _Progress):
+    import gymnasium as gym
+
+    from legent_gym.data.minari_store import MinariWriter
+
+    writer = MinariWriter(out / "minari", config.resolved_dataset_id(), staging=out / ".staging")
+    if writer.exists:
+        writer.truncate(progress.committed, progress.total_steps)
+        return writer
+    if progress.committed:
+        raise CollectError(f"the Minari dataset {writer.dataset_dir} is missing although {out / PROGRESS_FILE} "
+                           f"counts {progress.committed} episodes: use a new --out")
+    env = gym.make(config.env_id, **config.env_kwargs)  # spaces and spec only: no reset, no OpenGL
+    try:
+        writer.create(env.spec, env.observation_space, env.action_space,
+                      algorithm_name=f"legent_gym collect --policy {config.policy}",
+                      description=f"Successful {config.env_id} trajectories (seed {config.seed}), "
+                                  "collected by legent_gym; lossless images.")
+    finally:
+        env.close()
+    return writer
+
+
+@dataclass
+class _Writers:
+    minari: Any = None
+    legent: LegentWriter | None = None
+    video_dir: Path | None = None
+
+    def commit(self, result: AttemptResult, index: int) -> None:
+        """Write one successful episode everywhere (the caller then counts it)."""
+        episode, traj_id = result.episode, LegentWriter.trajectory_id(index)
+        if self.legent is not None:
+            self.legent.write(episode, index, result.pngs)
+        if self.video_dir is not None:
+            atomic_write_bytes(self.video_dir / f"{traj_id}_map.png", result.map_png, durable=False)
+            atomic_write_bytes(self.video_dir / f"{traj_id}.mp4", result.video, durable=False)
+        if self.minari is not None:
+            self.minari.append(episode, index, {"legent_id": traj_id}, durable=False)
+
+    def close(self) -> None:
+        if self.legent is not None:
+            self.legent.checkpoint(durable=False)
+        if self.minari is not None:
+            self.minari.close()
+
+
+def _open_writers(out: Path, config: CollectConfig, progress: _Progress) -> _Writers:
+    try:
+        return _resume_writers(out, config, progress)
+    except ValueError as err:  # the output no longer matches progress.json (edited by hand)
+        raise CollectError(str(err)) from None
+
+
+def _resume_writers(out: Path, config: CollectConfig, progress: _Progress) -> _Writers:
+    writers = _Writers()
+    if "minari" in config.formats:
+        writers.minari = _open_minari(out, config, progress)
+    if "legent" in config.formats:
+        writers.legent = LegentWriter(out / "legent", config.window)
+        writers.legent.resume(progress.committed)
+        writers.legent.checkpoint(durable=False)  # the aggregates exist (and agree) from the start
+    if "video" in config.formats:
+        writers.video_dir = out / "video"
+        _clean_videos(writers.video_dir, progress.committed)
+        writers.video_dir.mkdir(exist_ok=True)
+    return writers
+
+
+def _run(config: CollectConfig, policy, out: Path, progress: _Progress, writers: _Writers, bar,
+         checkpoint_seconds: float) -> None:
+    # Rewriting the aggregates costs O(dataset); space the rewrites so they stay a few percent.
+    last_checkpoint, interval = time.monotonic(), checkpoint_seconds
+    with closing(_attempt_results(config, policy, progress.next_attempt, config.attempt_limit())) as results:
+        for result in results:
+            progress.next_attempt = result.attempt + 1
+            if not result.success:
+                progress.failures += 1
+            else:
+                writers.commit(result, progress.committed)
+                progress.committed += 1
+                progress.total_steps += result.steps
+                progress.complete = progress.committed >= config.episodes
+                _save_progress(out, config, progress, durable=False)
+                bar.update(1)
+                if writers.legent is not None and time.monotonic() - last_checkpoint >= interval:
+                    began = time.monotonic()
+                    writers.legent.checkpoint(durable=False)
+                    last_checkpoint = time.monotonic()
+                    interval = max(checkpoint_seconds, 20 * (last_checkpoint - began))
+            bar.set_postfix(success=f"{progress.committed / (progress.committed + progress.failures):.0%}",
+                            failed=progress.failures)
+            if progress.complete:
+                return
+
+
+def collect(config: CollectConfig, *, policy: Callable | None = None, show_progress: bool = True,
+            checkpoint_seconds: float = CHECKPOINT_SECONDS) -> CollectSummary:
+    """Collect ``config.episodes`` successful trajectories into ``config.out`` (resuming
+    what is there). ``policy`` overrides ``config.policy`` with a callable (it must be
+    importable by worker processes when ``workers > 1``)."""
+    from tqdm import tqdm
+
+    if policy is not None:  # a resumed run must be made by the same policy: record its name
+        config = replace(config, policy=f"{policy.__module__}:{policy.__qualname__}")
+    _check(config, policy)
+    out = Path(config.out)
+    out.mkdir(parents=True, exist_ok=True)
+    lock = _lock(out)
+    try:
+        progress = _load_progress(out, config)
+        if progress is None:
+            if any((out / name).exists() for name in ("minari", "legent", "video")):
+                raise CollectError(f"{out} holds data but no {PROGRESS_FILE}: use an empty or new --out")
+            progress = _Progress()
+            _save_progress(out, config, progress)
+        writers = _open_writers(out, config, progress)
+        start_committed, start = progress.committed, time.perf_counter()
+        bar = tqdm(total=config.episodes, initial=min(progress.committed, config.episodes), unit="ep",
+                   desc=config.env_id.split("/")[-1], disable=not show_progress, dynamic_ncols=True)
+        try:
+            if progress.committed < config.episodes:
+                _run(config, policy or config.policy, out, progress, writers, bar, checkpoint_seconds)
+        finally:
+            bar.close()
+            writers.close()
+            # Everything was written crash-safe (whole or absent) but without an fsync each;
+            # one sync makes the run durable before the final count.
+            os.sync()
+        progress.complete = progress.committed >= config.episodes
+        _save_progress(out, config, progress)
+        summary = CollectSummary(str(out), progress.committed, progress.committed - start_committed,
+                                 progress.failures, progress.committed + progress.failures,
+                                 time.perf_counter() - start,
+                                 config.resolved_dataset_id() if writers.minari is not None else None)
+        if not progress.complete:
+            raise CollectError(f"only {progress.committed} of {config.episodes} episodes succeeded in "
+                               f"{summary.attempts} attempts (the limit is {config.attempt_limit()}; raise "
+                               f"--max-attempts); what succeeded is kept in {out}")
+        return summary
+    finally:
+        lock.close()
+
+
+def describe(summary: CollectSummary) -> str:
+    rate = f"{summary.success_rate:.1%}" if summary.attempts else "n/a"
+    speed = f", {summary.episodes_per_second:.2f} episodes/s" if summary.new_episodes else ""
+    lines = [f"{summary.episodes} episodes in {summary.out} ({summary.new_episodes} new in "
+             f"{summary.seconds:.1f} s{speed}); {summary.failures} failed attempts, success rate {rate}"]
+    if summary.dataset_id:
+        lines.append(f"Minari: MINARI_DATASETS_PATH={Path(summary.out) / 'minari'} "
+                     f"python -c \"import minari; minari.load_dataset('{summary.dataset_id}')\"")
+    return "\n".join(lines)

@@ -1,0 +1,197 @@
+"""LEGENT's trajectory format and the image-text interleaved JSONL for VLA training.
+
+Under the export root (``OUT/legent``):
+
+* ``<id>/NNNN.png``: the agent's view before action N (lossless RGB);
+* ``<id>/trajectory.json``: ``{"id", "interactions": [{"from": "human", "text": task},
+  {"from": "agent", "trajectory": [{"image": "<id>/0000.png", "action": "..."}, ...]}]}``
+  plus our own fields (``env_id``, ``seed``, ``attempt``, ``task``, ...);
+* ``trajectories.json``: the list of all trajectories (LEGENT's aggregated file);
+* ``interleaved.jsonl``: one line per step (see :func:`interleaved_records`).
+
+A trajectory folder is written under a temporary name and renamed into place, so it is
+whole or absent. The two aggregate files are derived from the folders and rewritten
+atomically at checkpoints; after a crash they may lag behind the folders, never disagree
+with them, and the next run rebuilds them.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from legent_gym.atomic import atomic_write_bytes
+from legent_gym.data.rollout import Episode
+
+TRAJECTORY_FILE = "trajectory.json"
+AGGREGATE_FILE = "trajectories.json"
+INTERLEAVED_FILE = "interleaved.jsonl"
+#: The paper's model reads the last 6 observations.
+DEFAULT_WINDOW = 6
+IMAGE_TOKEN = "<image>"
+
+
+def encode_png(rgb: np.ndarray) -> bytes:
+    import cv2
+
+    ok, data = cv2.imencode(".png", np.ascontiguousarray(rgb[..., ::-1]))
+    if not ok:
+        raise ValueError(f"could not encode an image of shape {rgb.shape} as PNG")
+    return data.tobytes()
+
+
+def read_png(path: str | os.PathLike) -> np.ndarray:
+    """An RGB uint8 image from a PNG written by :func:`encode_png`."""
+    import cv2
+
+    bgr = cv2.imread(str(path), cv2.IMREAD_COLOR)
+    if bgr is None:
+        raise FileNotFoundError(f"cannot read image {path}")
+    return np.ascontiguousarray(bgr[..., ::-1])
+
+
+def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
+    """The ``trajectory.json`` of an episode."""
+    steps = [{"image": f"{traj_id}/{n:04d}.png", "action": text} for n, text in enumerate(episode.action_texts)]
+    return {
+        "id": traj_id,
+        "interactions": [
+            {"from": "human", "text": episode.instruction},
+            {"from": "agent", "trajectory": steps},
+        ],
+        "env_id": episode.env_id,
+        "seed": episode.seed,
+        "attempt": episode.attempt,
+        "task": episode.task,
+        "house_seed": episode.house_seed,
+        "scene_name": episode.scene_name,
+        "success": episode.success,
+        "steps": episode.steps,
+        "return": float(sum(episode.rewards)),
+    }
+
+
+def build_prompt(instruction: str, history: Sequence[str]) -> str:
+    """``Instruction: <i> Observation: <image> Action: <a> ... Observation: <image> Action:``
+    with one ``<image>`` per image (``len(history) + 1``)."""
+    parts = [f"Instruction: {instruction}"]
+    parts += [f"Observation: {IMAGE_TOKEN} Action: {action}" for action in history]
+    parts.append(f"Observation: {IMAGE_TOKEN} Action:")
+    return " ".join(parts)
+
+
+def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW) -> list[dict[str, Any]]:
+    """One training sample per step of a trajectory record: the last ``window`` views up
+    to and including the step, the actions between them, the prompt and the target action.
+    Image paths are relative to the export root."""
+    if window < 1:
+        raise ValueError(f"the interleaved window must be >= 1 image, got {window}")
+    instruction = trajectory["interactions"][0]["text"]
+    steps = trajectory["interactions"][1]["trajectory"]
+    task = trajectory.get("task", {})
+    task_name = task.get("name") if isinstance(task, dict) else task
+    records = []
+    for n, step in enumerate(steps):
+        first = max(0, n - window + 1)
+        images = [s["image"] for s in steps[first:n + 1]]
+        history = [s["action"] for s in steps[first:n]]
+        records.append({
+            "trajectory": trajectory["id"],
+            "step": n,
+            "instruction": instruction,
+            "images": images,
+            "history": history,
+            "prompt": build_prompt(instruction, history),
+            "action": step["action"],
+            "task": task_name,
+            "env_id": trajectory.get("env_id"),
+            "seed": trajectory.get("seed"),
+        })
+    return records
+
+
+def episode_pngs(episode: Episode) -> list[bytes]:
+    """The views before each action, PNG-encoded (no image after the last action, as in LEGENT)."""
+    return [encode_png(obs["rgb"]) for obs in episode.observations[:episode.steps]]
+
+
+class LegentWriter:
+    """Writes trajectory folders and keeps the aggregate files (see the module docstring)."""
+
+    def __init__(self, root: str | os.PathLike, window: int = DEFAULT_WINDOW):
+        if window < 1:
+            raise ValueError(f"the interleaved window must be >= 1 image, got {window}")
+        self.root = Path(root)
+        self.window = window
+        self._trajectories: list[bytes] = []  # serialised, so a checkpoint is a join and a write
+        self._interleaved: list[bytes] = []
+
+    @staticmethod
+    def trajectory_id(index: int) -> str:
+        return f"{index:06d}"
+
+    def resume(self, committed: int) -> None:
+        """Load the first ``committed`` trajectories and drop anything written after them."""
+        self.root.mkdir(parents=True, exist_ok=True)
+        self._trajectories, self._interleaved = [], []
+        for index in range(committed):
+            folder = self.root / self.trajectory_id(index)
+            try:
+                record = json.loads((folder / TRAJECTORY_FILE).read_text())
+            except FileNotFoundError:
+                raise ValueError(f"{folder} is missing although the progress file counts it as written: "
+                                 "the output directory was changed by hand; use a new --out") from None
+            self._add(record)
+        for child in self.root.iterdir():
+            stale_temp = child.name.startswith(".") and child.name.endswith(".tmp")
+            uncounted = child.is_dir() and child.name.isdigit() and int(child.name) >= committed
+            if stale_temp or uncounted:
+                shutil.rmtree(child) if child.is_dir() else child.unlink()
+
+    def _add(self, record: dict[str, Any]) -> None:
+        self._trajectories.append(json.dumps(record).encode())
+        lines = (json.dumps(r) + "\n" for r in interleaved_records(record, self.window))
+        self._interleaved.append("".join(lines).encode())
+
+    def write(self, episode: Episode, index: int, pngs: Sequence[bytes]) -> dict[str, Any]:
+        """Write trajectory ``index`` (whole or not at all); returns its record."""
+        if len(pngs) != episode.steps:
+            raise ValueError(f"{len(pngs)} images for {episode.steps} actions")
+        if index != len(self._trajectories):
+            raise ValueError(f"trajectory {index} is not the next one ({len(self._trajectories)} written)")
+        traj_id = self.trajectory_id(index)
+        record = trajectory_record(episode, traj_id)
+        temp = self.root / f".{traj_id}.tmp"
+        shutil.rmtree(temp, ignore_errors=True)
+        temp.mkdir(parents=True)
+        for n, png in enumerate(pngs):
+            (temp / f"{n:04d}.png").write_bytes(png)
+        (temp / TRAJECTORY_FILE).write_text(json.dumps(record, indent=1))
+        final = self.root / traj_id
+        if final.exists():  # written before a crash but never counted
+            shutil.rmtree(final)
+        os.rename(temp, final)
+        self._add(record)
+        return record
+
+    def checkpoint(self, durable: bool = True) -> None:
+        """Rewrite ``trajectories.json`` and ``interleaved.jsonl`` atomically."""
+        atomic_write_bytes(self.root / AGGREGATE_FILE, b"[" + b",\n".join(self._trajectories) + b"]\n",
+                           durable=durable)
+        atomic_write_bytes(self.root / INTERLEAVED_FILE, b"".join(self._interleaved), durable=durable)
+
+
+def load_trajectories(root: str | os.PathLike) -> list[dict[str, Any]]:
+    """The aggregated trajectory list of an export."""
+    return json.loads((Path(root) / AGGREGATE_FILE).read_text())
+
+
+def load_interleaved(root: str | os.PathLike) -> list[dict[str, Any]]:
+    with open(Path(root) / INTERLEAVED_FILE, encoding="utf-8") as fh:
+        return [json.loads(line) for line in fh if line.strip()]

@@ -1,0 +1,137 @@
+"""Running one episode with a policy and keeping everything the exports need.
+
+A policy is a callable ``(obs, info) -> action`` in the env's own action space. The
+default, :func:`expert_policy`, plays ``info["expert_action"]``, which the
+:class:`~legent_gym.wrappers.expert.ExpertInfo` wrapper puts into every info.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+Policy = Callable[[dict, dict], Any]
+
+#: The ``--policy`` name of the expert (any other name is ``module:function``).
+EXPERT = "expert"
+
+
+def expert_policy(obs: dict, info: dict) -> Any:
+    """Play the expert's action (needs the env wrapped in ``ExpertInfo``)."""
+    try:
+        return info["expert_action"]
+    except KeyError:
+        raise KeyError("info has no 'expert_action': wrap the env in "
+                       "legent_gym.wrappers.expert.ExpertInfo to play the expert") from None
+
+
+def resolve_policy(name: str) -> Policy:
+    """``"expert"`` or ``"package.module:function"`` -> the policy callable."""
+    if name == EXPERT:
+        return expert_policy
+    module_name, sep, attr = name.partition(":")
+    if not sep or not module_name or not attr:
+        raise ValueError(f"policy must be 'expert' or 'module:function', got {name!r}")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as err:
+        raise ValueError(f"policy {name!r}: cannot import module {module_name!r} ({err})") from err
+    policy = getattr(module, attr, None)
+    if not callable(policy):
+        raise ValueError(f"policy {name!r}: module {module_name!r} has no callable {attr!r}")
+    return policy
+
+
+def make_env(env_id: str, env_kwargs: dict[str, Any] | None = None, *, expert: bool = False) -> gym.Env:
+    """``gym.make(env_id, **env_kwargs)``, wrapped in ``ExpertInfo`` when the expert plays."""
+    env = gym.make(env_id, **(env_kwargs or {}))
+    if expert:
+        from legent_gym.wrappers.expert import ExpertInfo
+
+        env = ExpertInfo(env)
+    return env
+
+
+def recorded_info(info: dict) -> dict[str, Any]:
+    """The privileged state kept per step, with the same keys and types at reset and step
+    (Minari stores infos as columns, so they must not change shape)."""
+    distance = info.get("distance_to_goal")
+    held = info.get("held")
+    return {
+        "success": bool(info.get("success", False)),
+        "distance_to_goal": math.nan if distance is None else float(distance),
+        "agent_pose": np.asarray(info["agent_pose"], dtype=np.float64),
+        "user_pose": np.asarray(info.get("user_pose", (math.nan,) * 4), dtype=np.float64),
+        "held": -1 if held is None else int(held),
+        "n_actions": int(info.get("n_actions", 0)),
+    }
+
+
+@dataclass
+class Episode:
+    """One attempt: ``observations`` has one more entry than ``actions`` (the view after
+    the last action). ``action_texts`` are LEGENT's action code for each step."""
+
+    attempt: int
+    seed: int
+    env_id: str
+    instruction: str
+    task: dict[str, Any]
+    observations: list[dict[str, Any]] = field(default_factory=list)
+    actions: list[Any] = field(default_factory=list)
+    action_texts: list[str] = field(default_factory=list)
+    rewards: list[float] = field(default_factory=list)
+    terminations: list[bool] = field(default_factory=list)
+    truncations: list[bool] = field(default_factory=list)
+    infos: list[dict[str, Any]] = field(default_factory=list)
+    success: bool = False
+    house_seed: int | None = None
+    scene_name: str | None = None
+
+    @property
+    def steps(self) -> int:
+        return len(self.actions)
+
+    @property
+    def path(self) -> list[tuple[float, float]]:
+        """The agent's positions, from the start to the end."""
+        return [(float(i["agent_pose"][0]), float(i["agent_pose"][1])) for i in self.infos]
+
+
+def _action_text(action: Any, info: dict) -> str:
+    # The env reports the executed action as canonical code; an unparsable text action
+    # executes nothing and reports "", so keep what the policy wrote.
+    text = info.get("action_text")
+    if text:
+        return text
+    return action if isinstance(action, str) else str(action)
+
+
+def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env_id: str) -> Episode:
+    """Reset with ``seed`` and play ``policy`` until the episode ends."""
+    obs, info = env.reset(seed=seed)
+    task = dict(info.get("task", {}))
+    episode = Episode(attempt=attempt, seed=seed, env_id=env_id, instruction=str(obs["instruction"]),
+                      task=task, house_seed=info.get("house_seed"), scene_name=info.get("scene_name"))
+    episode.observations.append(obs)
+    episode.infos.append(recorded_info(info))
+    while True:
+        action = policy(obs, info)
+        obs, reward, terminated, truncated, info = env.step(action)
+        episode.actions.append(action)
+        episode.action_texts.append(_action_text(action, info))
+        episode.rewards.append(float(reward))
+        episode.terminations.append(bool(terminated))
+        episode.truncations.append(bool(truncated))
+        episode.observations.append(obs)
+        episode.infos.append(recorded_info(info))
+        if terminated or truncated:
+            break
+    episode.success = bool(info.get("success", False))
+    return episode
