@@ -129,3 +129,18 @@ def test_pitch_is_clamped(house):
     _, _, agent = house
     out = agent.rotate_down(200)
     assert agent.state.pitch == 60 and "clamped" in out.reason
+
+
+def test_the_head_camera_follows_the_body():
+    # mj_kinematics alone leaves cameras where they were: every frame would be the spawn view.
+    import gymnasium as gym
+
+    import legent_gym  # noqa: F401
+
+    env = gym.make("Legent/ComeHere-OneRoom-v0", width=32, height=32)
+    first, _ = env.reset(seed=0)
+    turned, *_ = env.step("rotate_right(90)")
+    tilted, *_ = env.step("rotate_down(40)")
+    assert np.abs(first["rgb"].astype(int) - turned["rgb"]).mean() > 1.0
+    assert np.abs(turned["rgb"].astype(int) - tilted["rgb"]).mean() > 1.0
+    env.close()
