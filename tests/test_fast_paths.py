@@ -24,6 +24,7 @@ from legent_gym.world.generation.floorplan import build_floorplan, choice_p, pla
 from legent_gym.world.generation.furnish import AGENT_RADIUS, CHECK_MARGIN, room_spaces
 from legent_gym.world.meshing import MeshAccumulator, Palette
 from legent_gym.world.navigation import (
+    NavGrid,
     _segment_clear,
     _segments_clear,
     clearance_at_least,
@@ -146,7 +147,8 @@ def test_simple_action_parsing_matches_the_full_parser():
     names = ["move_forward", "rotate_right", "rotate_down", "speak", "interact", "grab", "put", "release",
              "open", "close", "finish", "jump", "Move_forward"]
     args = ["", "1", "1.", ".5", "+.5", "-3.25", "1e3", "1e", "1e400", "-0", "007", "+5", "12", "inf", '"hi"',
-            "'hi'", '"a, b"', '"x\\"y"', "inner", "1 2", "1.2.3", " 3 ", "\t3", "\u00b9"]
+            "'hi'", '"a, b"', '"x\\"y"', "inner", "1 2", "1.2.3", " 3 ", "\t3", "\u00b9",
+            "9" * 5000, "9" * 400]  # ids past int()'s digit limit, numbers past float range
     seps = [", ", ",", " , ", "", " ", ",\n"]
     simple = 0
     for _ in range(8000):
@@ -229,4 +231,27 @@ def test_batched_moves_leave_the_world_as_unbatched_moves_do():
                 body.rotate_down(tilt)
             assert bodies[1]._unsynced  # not yet written to the world
     for name in ("mocap_pos", "mocap_quat", "xpos", "cam_xpos", "cam_xmat"):
+        assert np.array_equal(getattr(worlds[0].data, name), getattr(worlds[1].data, name)), name
+
+
+def test_interactions_inside_a_batch_see_the_moves_before_them():
+    scene = generate_house(2, "TwoRoom")
+    worlds = [build_world(scene) for _ in range(2)]
+    bodies = [Body(w, "agent", other="user") for w in worlds]
+    item = next(o for o in scene.objects if o.kind == "interactable" and o.on is not None)
+    stand = NavGrid.from_scene(scene).standing_point(item.id, reach=1.0)
+    centre = item.position
+    yaw = math.degrees(math.atan2(centre[1] - stand[1], centre[0] - stand[0]))
+    outcomes = []
+    for k, body in enumerate(bodies):
+        body.place(stand[0], stand[1], yaw)
+        steps = [lambda b: b.grab(item.id), lambda b: b.rotate_right(-40), lambda b: b.move_forward(0.2),
+                 lambda b: b.put(item.on), lambda b: b.rotate_right(30)]
+        if k == 0:
+            outcomes.append([step(body).ok for step in steps])
+        else:
+            with body.batched():
+                outcomes.append([step(body).ok for step in steps])
+    assert outcomes[0] == outcomes[1] and outcomes[0][0] and outcomes[0][3]  # grabbed and put down
+    for name in ("qpos", "qvel", "mocap_pos", "mocap_quat", "xpos", "cam_xpos"):
         assert np.array_equal(getattr(worlds[0].data, name), getattr(worlds[1].data, name)), name

@@ -115,7 +115,29 @@ def test_render_and_max_cycles(env_id):
         return _aec(env_id, render_size=64, render_mode=None if render_mode == "human" else render_mode)
 
     render_test(make)
-    max_cycles_test(ma.env_module(env_id))
+    max_cycles_test(_seeded_module(env_id))
+
+
+def _seeded_module(env_id):
+    """``env_module(env_id)`` whose envs reset with seed 0 when given none, and whose action
+    spaces sample from seeded generators: max_cycles_test resets and samples unseeded, and
+    a random episode that happens to end early (a random action that completes the task)
+    must not make the test flaky."""
+    from types import SimpleNamespace
+
+    module = ma.env_module(env_id)
+
+    def seeded(factory):
+        def make(**kwargs):
+            env = factory(**kwargs)
+            reset = env.reset
+            env.reset = lambda seed=None, options=None: reset(seed=0 if seed is None else seed, options=options)
+            for i, agent in enumerate(env.possible_agents):
+                env.action_space(agent).seed(i)
+            return env
+        return make
+
+    return SimpleNamespace(parallel_env=seeded(module.parallel_env), env=seeded(module.env))
 
 
 def test_continuous_actions_pass_the_parallel_api():

@@ -119,15 +119,20 @@ class Body:
         return _Batch(self)
 
     def _flush(self) -> None:
-        """Bring the world up to date with a batched pose change, if one is pending."""
+        """Bring the world up to date with a batched pose change, if one is pending (also
+        inside a batch: an interaction must see the pose the moves before it left)."""
         if self._unsynced:
             self._unsynced = False
-            self._sync()
+            self._write_pose()
 
     def _sync(self) -> None:
+        """Write the body's pose to the world, or note that it is due (inside a batch)."""
         if self._batch_depth:
             self._unsynced = True
             return
+        self._write_pose()
+
+    def _write_pose(self) -> None:
         s = self.state
         self.world.set_body_pose(self.name, s.x, s.y, s.yaw, s.pitch)
         if s.held is not None:
@@ -158,19 +163,20 @@ class Body:
         best = distance
         # Rays that certainly hit nothing within the length that matters are not cast (the
         # clearance map proves it): the result is exactly that of casting all of them.
-        clearance = self._clearance()
+        clearance = self._clearance_map or self._clearance()
         dist_map = clearance.distances(exclude)
         x, y = self.state.x, self.state.y
         if clearance.segment_clear(dist_map, x, y, fx, fy, distance + r + 0.02, r):
             offsets = ()
         else:
             offsets = self._lateral_offsets
+        segment_clear = clearance.segment_clear
         for lateral, front in offsets:
-            start[0] = x - fy * lateral
-            start[1] = y + fx * lateral
+            sx, sy = x - fy * lateral, y + fx * lateral
             # Only a hit nearer than best + front + 0.02 counts, and best only shrinks.
-            if clearance.segment_clear(dist_map, start[0], start[1], fx, fy, best + front + 0.02 + 1e-9, 0.0):
+            if segment_clear(dist_map, sx, sy, fx, fy, best + front + 0.02 + 1e-9, 0.0):
                 continue
+            start[0], start[1] = sx, sy
             for height in self._ray_heights:
                 start[2] = height
                 dist = mujoco.mj_ray(model, data, start, forward, _COLLISION_GROUPS, 1, exclude, geomid)
