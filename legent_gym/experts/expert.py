@@ -40,6 +40,12 @@ def _interaction_follows(program: Program, index: int) -> bool:
     return index < len(program) and program[index].name in _ONE_SHOT_ACTION
 
 
+def _targets(program: Program, index: int, object_id) -> bool:
+    """Whether instruction ``index`` aims at ``object_id`` (so the walk before it stands
+    where it can be aimed at, and leaves the facing to it)."""
+    return index < len(program) and program[index].name == "target" and program[index].arg == object_id
+
+
 def next_step(planner: Planner, program: Program, pc: int) -> tuple[tuple, int]:
     """The next action of ``program`` from instruction ``pc`` on, and the new counter.
 
@@ -59,7 +65,12 @@ def next_step(planner: Planner, program: Program, pc: int) -> tuple[tuple, int]:
             if aimed and _interaction_follows(program, pc + 1):
                 return step + (one_shot(program[pc + 1]),), pc + 2
             return step, pc
-        step = planner.goto_user() if ins.name == "goto_user" else getattr(planner, ins.name)(ins.arg)
+        if ins.name == "goto_user":
+            step = planner.goto_user()
+        elif ins.name == "goto":
+            step = planner.goto(ins.arg, then_target=_targets(program, pc + 1, ins.arg))
+        else:
+            step = getattr(planner, ins.name)(ins.arg)
         if step is None:
             pc += 1
             continue

@@ -12,20 +12,19 @@ serves a whole sequence of resets. It never changes the world.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import mujoco
 import numpy as np
 
 from legent_gym.agent.actions import ActionLimits
+from legent_gym.tasks import feasibility
+from legent_gym.tasks.feasibility import yaw_pitch_to
 from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS
 from legent_gym.world.navigation import NavGrid
 
-#: Extra clearance (metres) the expert keeps from obstacles beyond the body's radius: a
-#: straight segment between walkable cells may pass half a cell closer to a corner than
-#: the cells do, and the body's sweep stops at the first touch.
-PLANNING_MARGIN = 0.06
+__all__ = ["Oracle", "Pose", "RayHit", "direction_of", "yaw_pitch_to"]
 
 _VIEW_GROUPS = np.zeros(6, dtype=np.uint8)
 _VIEW_GROUPS[GROUP_HOUSE] = _VIEW_GROUPS[GROUP_OBJECTS] = 1
@@ -56,14 +55,6 @@ def direction_of(yaw: float, pitch: float) -> np.ndarray:
     """The unit view direction for a yaw and pitch in degrees (the head camera's convention)."""
     y, p = math.radians(yaw), math.radians(pitch)
     return np.array([math.cos(y) * math.cos(p), math.sin(y) * math.cos(p), -math.sin(p)])
-
-
-def yaw_pitch_to(eye: np.ndarray, point: np.ndarray) -> tuple[float, float]:
-    """The yaw and pitch (degrees) that look from ``eye`` straight at ``point``."""
-    d = np.asarray(point, dtype=float) - eye
-    yaw = math.degrees(math.atan2(d[1], d[0]))
-    pitch = math.degrees(math.atan2(-d[2], math.hypot(d[0], d[1])))
-    return yaw, pitch
 
 
 class Oracle:
@@ -158,52 +149,38 @@ class Oracle:
     def object_centre(self, object_id: int) -> np.ndarray:
         return self._ctx.object_centre(object_id)
 
-    def aim_points(self, object_id: int) -> list[np.ndarray]:
-        """Points on an object worth aiming at: the centre of its bounds, then its top face
-        (centre), then points across its height and width."""
-        world = self._ctx.world
-        lo, hi = world.assets[object_id].bounds()
-        body = world.object_body[object_id]
-        rot = world.data.xmat[body].reshape(3, 3)
-        origin = world.data.xpos[body]
-        mid = (lo + hi) / 2
-        half = (hi - lo) / 2
-        local = [mid, (mid[0], mid[1], hi[2] - 0.02), (mid[0], mid[1], mid[2] + half[2] * 0.5),
-                 (mid[0], mid[1], mid[2] - half[2] * 0.5)]
-        for fx, fy in ((0.5, 0), (-0.5, 0), (0, 0.5), (0, -0.5)):
-            local.append((mid[0] + fx * half[0], mid[1] + fy * half[1], mid[2]))
-            local.append((mid[0] + fx * half[0], mid[1] + fy * half[1], hi[2] - 0.02))
-        return [origin + rot @ np.asarray(p, dtype=float) for p in local]
+    def aim_points(self, object_id: int) -> np.ndarray:
+        """Points (N, 3) spread through an object's bounds, worth aiming at."""
+        return feasibility.aim_points(self._ctx, object_id)
 
-    def surface_spots(self, host: int) -> list[np.ndarray]:
-        """Where the held object could be put on ``host``: free points on its receptacle
-        surfaces (world coordinates). Empty if it holds nothing."""
-        ctx = self._ctx
-        held = ctx.agent.state.held
-        if held is None:
-            return []
-        world = ctx.world
-        body = world.object_body[host]
-        spots = []
-        for rec in world.assets[host].receptacles:
-            link_body = body if rec.link == "base" else world.model.body(f"obj_{host}_{rec.link}").id
-            rot = world.data.xmat[link_body].reshape(3, 3)
-            origin = world.data.xpos[link_body]
-            for fx in np.linspace(-0.8, 0.8, 5):
-                for fy in np.linspace(-0.8, 0.8, 5):
-                    local = np.array([rec.center[0] + fx * rec.half_size[0], rec.center[1] + fy * rec.half_size[1],
-                                      rec.height])
-                    point = origin + rot @ local
-                    # The body's own check: the spot it would put the item on, or why not.
-                    spot = ctx.agent._free_spot(host, point, held)
-                    if not isinstance(spot, str):
-                        spots.append(point)
-        return spots
+    def aims(self, object_id: int, eye: np.ndarray, reach: float, put: bool = False) -> list[tuple[float, float]]:
+        """(yaw, pitch) pairs from ``eye`` whose view ray meets the object within ``reach``;
+        with ``put``, a spot of its surface where the held object fits."""
+        return feasibility.aims(self._ctx, np.asarray(eye, dtype=float), object_id, reach, item=self.held,
+                                put=put, pitch_range=self.pitch_range, points=self._put_spots(object_id) if put else None)
+
+    def _put_spots(self, host: int) -> np.ndarray:
+        # Free spots change only when something is grabbed or put: keyed by what is held.
+        key = (self.episode_key, host, self.held)
+        if getattr(self, "_spots_key", None) != key:
+            self._spots = feasibility.put_spots(self._ctx, host, self.held)
+            self._spots_key = key
+        return self._spots
+
+    def seen_point(self, object_id: int, eye: np.ndarray, within: float) -> np.ndarray | None:
+        """A point of the object within ``within`` metres of ``eye`` that a view ray reaches."""
+        return feasibility.seen_point(self._ctx, np.asarray(eye, dtype=float), object_id, within, self.pitch_range,
+                                      self.held)
+
+    def centre_in_sight(self, object_id: int, eye: np.ndarray | None = None) -> bool:
+        """A ray from ``eye`` (default: the head camera) to the object's centre meets it first."""
+        eye = self.eye if eye is None else np.asarray(eye, dtype=float)
+        return feasibility.centre_in_sight(self._ctx, eye, object_id, self.held)
 
     def can_put_at(self, host: int, point: np.ndarray) -> bool:
         """Whether ``put`` aimed at ``point`` (a looked-at point on ``host``) would find room."""
         held = self._ctx.agent.state.held
-        return held is not None and not isinstance(self._ctx.agent._free_spot(host, point, held), str)
+        return held is not None and feasibility.put_spot(self._ctx, host, point, held) is not None
 
     def home_of(self, object_id: int) -> int | None:
         """The receptacle the object stood on when the house was made (None: the floor)."""
@@ -244,65 +221,51 @@ class Oracle:
 
     # -- navigation ------------------------------------------------------------------------
     def planning_grid(self) -> NavGrid:
-        """The expert's walkable grid: the episode's, with obstacles inflated by
-        :data:`PLANNING_MARGIN` more and the user standing as an obstacle. Rebuilt when the
-        episode changes or the user moves."""
-        ctx = self._ctx
-        user = ctx.user.position
-        key = (self.episode_key, round(float(user[0]), 1), round(float(user[1]), 1))
-        if getattr(self, "_grid_key", None) != key:
-            nav = ctx.nav
-            obstacles = nav.obstacles.copy()
-            if ctx.world.scene.user is not None:
-                rows, cols = np.ogrid[:nav.shape[0], :nav.shape[1]]
-                cx = nav.origin[0] + (cols + 0.5) * nav.resolution
-                cy = nav.origin[1] + (rows + 0.5) * nav.resolution
-                obstacles |= np.hypot(cx - user[0], cy - user[1]) <= ctx.user.options.radius
-            self._grid = NavGrid(nav.origin, nav.resolution, nav.floor, nav.walls, obstacles,
-                                 nav.agent_radius + PLANNING_MARGIN, scene=nav.scene, footprints=nav.footprints)
-            self._grid_key = key
-        return self._grid
+        """The expert's walkable grid (see :func:`legent_gym.tasks.feasibility.planning_grid`):
+        the episode's, with obstacles inflated by ``PLANNING_MARGIN`` more and the user
+        standing as an obstacle."""
+        return feasibility.planning_grid(self._ctx)
 
-    def path_to(self, goal: Sequence[float], *, keep_clear: bool = True) -> list[tuple[float, float]]:
-        """Corner points of the smoothed shortest path from the agent to ``goal``
-        (``[]`` if none): on :meth:`planning_grid` when ``keep_clear`` and it joins the two,
-        else on the episode's own grid (where a narrow passage may only be open without the
-        extra margin, and where the user is no obstacle: for walking up to the user)."""
-        start = tuple(self._ctx.agent.position)
+    def path_to(self, goal: Sequence[float], *, keep_clear: bool = True,
+                start: Sequence[float] | None = None) -> list[np.ndarray]:
+        """The polyline to walk from the agent (or ``start``) to ``goal``, starting with the
+        start point ([] if there is no path; see :func:`legent_gym.tasks.feasibility.walk_path`):
+        on :meth:`planning_grid` when ``keep_clear`` and it joins the two, else on the
+        episode's own grid (where a narrow passage may only be open without the margin)."""
+        ctx = self._ctx
+        start = tuple(ctx.agent.position) if start is None else (float(start[0]), float(start[1]))
         if keep_clear:
-            grid = self.planning_grid()
-            if grid.reachable(start, goal):
-                path = grid.path(start, tuple(goal))
-                if path:
-                    return path
-        return self._ctx.nav.path(start, tuple(goal))
+            for margin in (feasibility.PLANNING_MARGIN, 0.0):
+                grid = feasibility.planning_grid(ctx, margin)
+                if grid.reachable(start, goal):
+                    path = feasibility.walk_path(ctx, start, goal, grid)
+                    if path:
+                        return path
+        return feasibility.walk_path(ctx, start, goal, ctx.nav)
 
-    def standing_points(self, object_id: int, reach: float, limit: int = 400,
-                        near: Sequence[float] | None = None, within: float = math.inf) -> list[tuple[float, float]]:
-        """Walkable points from which the object's footprint is within ``reach`` (no wall
-        between), the geodesically nearest to the agent first (at most ``limit``); with
-        ``near``, only those within ``within`` metres of that point."""
+    def stands(self, object_id: int, purpose: str) -> Iterator[tuple[float, float]]:
+        """Walkable points serving ``purpose`` for the object ("sight", "aim", "put" or
+        "see", see :mod:`legent_gym.tasks.feasibility`), geodesically nearest first: on every
+        other cell of the planning grid (as the task samplers look: 4 times fewer ray checks),
+        then on every cell, then (a user moved into a passage) on a grid without the extra
+        margin."""
         ctx = self._ctx
-        nav = ctx.nav
         start = tuple(ctx.agent.position)
-        component = nav.component(start)
-        if component == 0:
-            here = nav.nearest_walkable(start)
-            if here is None:
-                return []
-            start, component = here, nav.component(here)
-        corners = self._footprint(object_id)
-        cells, _ = nav.reach_cells(corners, reach, component)
-        if near is not None and len(cells):
-            xy = np.asarray(nav.origin) + (cells[:, ::-1] + 0.5) * nav.resolution  # cell centres (x, y)
-            cells = cells[np.hypot(xy[:, 0] - near[0], xy[:, 1] - near[1]) <= within]
-        if len(cells) == 0:
-            return []
-        field = nav.distance_field(start)
-        dist = field[cells[:, 0], cells[:, 1]]
-        order = np.argsort(dist, kind="stable")[:limit]
-        order = order[np.isfinite(dist[order])]
-        return [nav.to_world(cells[i]) for i in order]
+        item = self.held
+        for grid, stride in ((None, 2), (None, 1), (feasibility.planning_grid(ctx, margin=0.0), 1)):
+            yield from feasibility.stands(ctx, object_id, purpose, start, item, self.pitch_range, grid=grid,
+                                          stride=stride)
+
+    def user_stand(self) -> tuple[float, float] | None:
+        """Where ``goto_user()`` walks to: the nearest point within talking distance of the
+        user (see :func:`legent_gym.tasks.feasibility.user_stand`)."""
+        ctx = self._ctx
+        return feasibility.user_stand(ctx, tuple(ctx.agent.position))
+
+    def stand_ok(self, xy: Sequence[float], object_id: int, purpose: str) -> bool:
+        """Whether standing at ``xy`` serves ``purpose`` for the object."""
+        points = self._put_spots(object_id) if purpose == "put" else None
+        return feasibility.stand_ok(self._ctx, xy, object_id, purpose, self.held, self.pitch_range, points)
 
     def _footprint(self, object_id: int) -> np.ndarray:
         """The object's footprint where it is now (it may have been moved)."""
@@ -313,12 +276,14 @@ class Oracle:
         return self._ctx.reach_distance(xy, object_id)
 
     def geodesic(self, point: Sequence[float], goal: Sequence[float]) -> float:
-        """Geodesic metres from ``point`` to ``goal`` on the episode's grid (inf: no path)."""
-        nav = self._ctx.nav
-        here = nav.nearest_walkable(tuple(point))
-        if here is None:
-            return math.inf
-        return float(nav.distance_field(tuple(goal))[nav.to_cell(here)])
+        """Geodesic metres from ``point`` to ``goal`` on the planning grid, else on the
+        episode's own grid (inf: no path on either)."""
+        for grid in (self.planning_grid(), self._ctx.nav):
+            here = grid.nearest_walkable(tuple(point))
+            if here is None or not grid.reachable(here, goal):
+                continue
+            return float(grid.distance_field(tuple(goal))[grid.to_cell(here)])
+        return math.inf
 
     def free_distance(self, heading: float, distance: float) -> float:
         """How far the agent could walk along ``heading`` (degrees) before touching anything."""

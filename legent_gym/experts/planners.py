@@ -5,15 +5,18 @@ instruction is done.
 They follow LEGENT's planner (see ``docs/experts.md``): walk the corners of the smoothed
 shortest path, turning first when the heading error exceeds 1 degree (at most 90 degrees a
 turn) and then moving at most 2 m; a move that reaches a corner carries the turn towards the
-next corner (or towards what the walk is for) in the same action. Unlike LEGENT's, every
-plan is recomputed from the current state, so the expert can take over after any other
-policy's actions (DAgger), and a multi-goal program visits every goal.
+next corner (or, on the last one, the turn and tilt towards what the walk is for) in the
+same action. Unlike LEGENT's, every plan is recomputed from the current state, so the expert
+can take over after any other policy's actions (DAgger), and a multi-goal program visits
+every goal.
 
-Standing points are chosen by what the next instruction needs, checked with rays from the
-candidate spot before walking there: ``goto(a)`` stands where ``a``'s centre is within reach
-and in sight, ``target(a)`` then aims the camera so that its centre ray hits ``a`` within
-reach (for a put: hits a free spot of the receptacle's surface), ``find(a)`` walks until
-``a`` is within 3 m and in sight.
+Standing points ("stands") are chosen by what the walk is for, with the checks the task
+samplers use (:mod:`legent_gym.tasks.feasibility`), so a sampled goal always has one:
+``goto(a)`` alone stands where ``a`` is within reach and its centre in sight (GoTo's
+success test); ``goto(a)`` before ``target(a)``, and ``target(a)`` itself, stand where a
+view ray meets ``a`` within reach (holding something: a free spot of ``a``'s surface);
+``find(a)`` walks until ``a`` is within 3 m and in sight. A stand that does not serve on
+arrival (arrival is never exact) is dropped and the next nearest one is taken.
 """
 
 from __future__ import annotations
@@ -25,15 +28,18 @@ import numpy as np
 
 from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight
 from legent_gym.experts.oracle import Oracle, yaw_pitch_to
+from legent_gym.tasks.feasibility import ANGLE_TOLERANCE, FIND_DISTANCE
+from legent_gym.tasks.feasibility import USER_STOP as COME_HERE_STOP
 
-ANGLE_TOLERANCE = 1.0  # degrees: turn first when the heading error is larger (LEGENT)
+__all__ = ["Planner", "PlanningError", "wrap"]
+
 ARRIVED = 0.05  # metres left on a path that count as arrived
-MIN_CORNER_GAP = 0.01  # corners closer than this are dropped (LEGENT)
-FIND_DISTANCE = 3.0  # find(a) stops once a is this close and in sight (LEGENT)
-COME_HERE_STOP = 1.0  # goto_user() stops this far from the user (success is < 2 m)
-REACH_MARGIN = 0.93  # aim only at points this fraction of the reach away, for rounding slack
-STAND_SLACK = 0.06  # metres of reach a standing point keeps in hand (arrival is not exact)
+AIM_EPSILON = 0.01  # metres of reach an aim keeps in hand against rounding
 DETOUR_STEP = 0.3  # metres walked sideways when the straight move is blocked
+STAND_RETRIES = 3  # stands tried in a row on arrival before giving up
+
+#: A function of a standing point (x, y) giving the (yaw, pitch) to look at from there.
+Look = Callable[[Sequence[float]], "tuple[float, float] | None"]
 
 
 class PlanningError(RuntimeError):
@@ -76,22 +82,27 @@ class Planner:
         return tuple(p for p in primitives if p is not None)
 
     # -- walking -------------------------------------------------------------------------------
-    def walk(self, goal: Sequence[float], stop_short: float = 0.0,
-             then_face: Sequence[float] | None = None, keep_clear: bool = True) -> tuple | None:
+    def _corners(self, start: np.ndarray, goal: Sequence[float], stop_short: float,
+                 keep_clear: bool) -> list[np.ndarray]:
+        """The corners still to walk from ``start`` (the agent's position, or where a move
+        will take it) to ``goal`` stopping ``stop_short`` before it; [] once there."""
+        points = self.oracle.path_to(goal, keep_clear=keep_clear, start=start)
+        if not points:
+            raise PlanningError(f"no walkable path from ({start[0]:.2f}, {start[1]:.2f}) to "
+                                f"({goal[0]:.2f}, {goal[1]:.2f})")
+        return _trim(points, stop_short)
+
+    def walk(self, goal: Sequence[float], stop_short: float = 0.0, then_look: Look | None = None,
+             keep_clear: bool = True) -> tuple | None:
         """The next action along the shortest path to ``goal`` (stopping ``stop_short``
-        metres before it), or None once there. ``then_face``: a point to turn towards with
-        the last move."""
+        metres before it), or None once there. Every move carries the turn towards the
+        corner after it (as replanned from where the move ends, so the next action finds no
+        heading error); the move that arrives carries the turn and tilt ``then_look`` asks
+        for from there."""
         o = self.oracle
         pose = o.pose
-        path = o.path_to(goal, keep_clear=keep_clear)
-        if not path:
-            raise PlanningError(f"no walkable path from ({pose.x:.2f}, {pose.y:.2f}) to "
-                                f"({goal[0]:.2f}, {goal[1]:.2f})")
-        points = [np.array([pose.x, pose.y])]
-        for p in path:  # path[0] is the agent's cell centre when it stands off the grid
-            if np.linalg.norm(np.asarray(p) - points[-1]) >= MIN_CORNER_GAP:
-                points.append(np.asarray(p, dtype=float))
-        corners = _trim(points, stop_short)
+        here = np.array([pose.x, pose.y])
+        corners = self._corners(here, goal, stop_short, keep_clear)
         if not corners:
             return None
         level = self._tilt(-pose.pitch) if abs(pose.pitch) > 0.5 else None
@@ -100,24 +111,32 @@ class Planner:
         if detour is not None and detour[0] == o.episode_key and abs(wrap(detour[1] - pose.yaw)) < 0.5:
             return self._step(MoveForward(detour[2]), level)
         target = corners[0]
-        error = wrap(_heading((pose.x, pose.y), target) - pose.yaw)
+        error = wrap(_heading(here, target) - pose.yaw)
         if abs(error) > ANGLE_TOLERANCE:
             return self._step(self._turn(error), level)
         distance = float(np.hypot(target[0] - pose.x, target[1] - pose.y))
-        move = min(distance, o.limits.max_move)
+        move = round(min(distance, o.limits.max_move), 2)
+        if move < 0.01:
+            return None
         free = o.free_distance(pose.yaw, move)
         if free < min(move, DETOUR_STEP) - 0.01:
             return self._sidestep(goal)
-        step = [MoveForward(round(move, 2))]
-        if distance <= o.limits.max_move:  # the corner is reached in this move: turn on
-            after = None
-            if len(corners) > 1:
-                after = _heading(target, corners[1])
-            elif then_face is not None and np.hypot(then_face[0] - target[0], then_face[1] - target[1]) > 0.05:
-                after = _heading(target, then_face)
-            if after is not None:
-                step.append(self._turn(wrap(after - pose.yaw)))
-        step.append(level)
+        step = [MoveForward(move)]
+        if free >= move - 1e-3:  # the move will end where planned: turn on from there
+            rad = math.radians(pose.yaw)
+            end = np.array([pose.x + math.cos(rad) * move, pose.y + math.sin(rad) * move])
+            after = self._corners(end, goal, stop_short, keep_clear)
+            if after:
+                turn = wrap(_heading(end, after[0]) - pose.yaw)
+                step += [self._turn(turn) if abs(turn) > ANGLE_TOLERANCE else None, level]
+            else:
+                look = then_look(end) if then_look is not None else None
+                if look is None:
+                    step.append(level)
+                else:
+                    step += [self._turn(wrap(look[0] - pose.yaw)), self._tilt(look[1] - pose.pitch)]
+        else:
+            step.append(level)
         return self._step(*step)
 
     def _sidestep(self, goal: Sequence[float]) -> tuple:
@@ -146,9 +165,7 @@ class Planner:
         """Turn (yaw and pitch) to look straight at ``point``; None if already looking."""
         o = self.oracle
         pose = o.pose
-        yaw, pitch = yaw_pitch_to(o.eye, np.asarray(point, dtype=float))
-        lo, hi = o.pitch_range
-        pitch = float(np.clip(pitch, lo, hi))
+        yaw, pitch = self._angles_to(o.eye, point)
         error, tilt = wrap(yaw - pose.yaw), pitch - pose.pitch
         if abs(error) <= ANGLE_TOLERANCE and abs(tilt) <= ANGLE_TOLERANCE:
             return None
@@ -156,171 +173,176 @@ class Planner:
                           self._tilt(tilt) if abs(tilt) > ANGLE_TOLERANCE else None)
         return step or None
 
+    def _angles_to(self, eye: np.ndarray, point: Sequence[float]) -> tuple[float, float]:
+        """(yaw, pitch) looking from ``eye`` at ``point``, the pitch within the head's range."""
+        yaw, pitch = yaw_pitch_to(eye, point)
+        lo, hi = self.oracle.pitch_range
+        return yaw, float(np.clip(pitch, lo, hi))
+
     # -- standing points -----------------------------------------------------------------------
-    def _reject_stand(self, object_id: int, purpose: str) -> None:
-        """The stand chosen for this purpose did not work on arrival: never choose it again."""
+    def _stand_key(self, object_id: int, purpose: str) -> tuple:
         o = self.oracle
-        key = (o.episode_key, object_id, purpose, o.held)
+        centre = o.object_centre(object_id)
+        return (o.episode_key, object_id, purpose, o.held, round(float(centre[0]), 2), round(float(centre[1]), 2))
+
+    def _reject_stand(self, object_id: int, purpose: str) -> None:
+        """The stand chosen for this purpose did not serve on arrival: never choose it again."""
+        key = self._stand_key(object_id, purpose)
         stand = self._stands.pop(key, None)
         if stand is not None:
             self._bad_stands.add((key, stand))
 
-    def _stand(self, object_id: int, purpose: str, footprint_reach: float,
-               good: Callable[[tuple[float, float]], bool]) -> tuple[float, float]:
-        """The geodesically nearest walkable spot where ``good`` holds (kept for the
-        episode while it still holds, so the goal does not flicker as the agent walks)."""
+    def _stand(self, object_id: int, purposes: Sequence[str]) -> tuple[tuple[float, float], str]:
+        """The geodesically nearest stand serving the first purpose that has one, and that
+        purpose (kept for the episode while it still serves, so the goal does not flicker as
+        the agent walks)."""
         o = self.oracle
-        key = (o.episode_key, object_id, purpose, o.held)
-        stand = self._stands.get(key)
-        if stand is not None and (key, stand) not in self._bad_stands and good(stand):
-            return stand
-        for candidate in o.standing_points(object_id, footprint_reach):
-            if (key, candidate) not in self._bad_stands and good(candidate):
-                self._stands[key] = candidate
-                return candidate
+        for purpose in purposes:
+            key = self._stand_key(object_id, purpose)
+            stand = self._stands.get(key)
+            if stand is not None and o.stand_ok(stand, object_id, purpose):
+                return stand, purpose
+            for candidate in o.stands(object_id, purpose):
+                if (key, candidate) not in self._bad_stands:
+                    self._stands[key] = candidate
+                    return candidate, purpose
+        what = {"sight": "reached and seen", "aim": "reached", "put": "reached with a free spot",
+                "see": "seen"}[purposes[-1]]
         raise PlanningError(f"no standing point from which object {object_id} ({o.name_of(object_id)}) "
-                            f"can be {'seen' if purpose == 'see' else 'reached'}")
+                            f"can be {what}")
 
-    def _aim(self, object_id: int, eye: np.ndarray, put: bool, reach: float | None = None,
-             from_pose: tuple[float, float] | None = None) -> tuple[float, float] | None:
-        """A (yaw, pitch) from ``eye`` whose centre ray hits the object within reach (for a
-        put: a free spot on its surface), or None. With ``from_pose`` (the current yaw and
-        pitch), angles are rounded as the turn that reaches them will be."""
+    # -- aiming --------------------------------------------------------------------------------
+    def _hits(self, object_id: int, eye: np.ndarray, yaw: float, pitch: float, put: bool) -> bool:
+        """Whether the view ray at (yaw, pitch) from ``eye`` meets the object within reach
+        (for a put: a spot of its surface with room for the held object)."""
         o = self.oracle
-        reach = o.reach if reach is None else reach
+        hit = o.cast(yaw, pitch, eye)
+        if hit is None or hit.object_id != object_id:
+            return False
+        if np.hypot(hit.point[0] - eye[0], hit.point[1] - eye[1]) > o.reach or hit.distance > 2 * o.reach:
+            return False
+        if put:
+            return o.can_put_at(object_id, hit.point)
+        # A grab checks reach to the object's centre too (see feasibility.aims).
+        centre = o.object_centre(object_id)
+        return np.hypot(centre[0] - eye[0], centre[1] - eye[1]) <= o.reach and np.linalg.norm(centre - eye) <= 2 * o.reach
+
+    def _aim(self, object_id: int, eye: np.ndarray, yaw0: float, pitch0: float, put: bool) -> tuple[float, float] | None:
+        """The (yaw, pitch) nearest to (``yaw0``, ``pitch0``) whose view ray from ``eye``
+        meets the object within reach, rounded as the turn that reaches it will be, or None."""
+        o = self.oracle
+        candidates = o.aims(object_id, eye, o.reach - AIM_EPSILON, put)
+        candidates.sort(key=lambda a: abs(wrap(a[0] - yaw0)) + abs(a[1] - pitch0))
         lo, hi = o.pitch_range
-        points = o.surface_spots(object_id) if put else o.aim_points(object_id)
-        points.sort(key=lambda p: float(np.hypot(p[0] - eye[0], p[1] - eye[1])))
-        for point in points:
-            if np.hypot(point[0] - eye[0], point[1] - eye[1]) > reach * REACH_MARGIN:
-                continue
-            yaw, pitch = yaw_pitch_to(eye, point)
-            if not lo <= pitch <= hi:
-                continue
-            if from_pose is not None:
-                yaw = from_pose[0] + round(wrap(yaw - from_pose[0]), 1)
-                pitch = from_pose[1] + round(pitch - from_pose[1], 1)
-            if self._hits(object_id, eye, yaw, pitch, put, reach):
+        for yaw, pitch in candidates:
+            yaw = yaw0 + round(wrap(yaw - yaw0), 1)
+            pitch = float(np.clip(pitch0 + round(pitch - pitch0, 1), lo, hi))
+            if self._hits(object_id, eye, yaw, pitch, put):
                 return yaw, pitch
         return None
 
-    def _hits(self, object_id: int, eye: np.ndarray, yaw: float, pitch: float, put: bool,
-              reach: float) -> bool:
-        hit = self.oracle.cast(yaw, pitch, eye)
-        if hit is None or hit.object_id != object_id:
-            return False
-        if np.hypot(hit.point[0] - eye[0], hit.point[1] - eye[1]) > reach or hit.distance > 2 * reach:
-            return False
-        return not put or self.oracle.can_put_at(object_id, hit.point)
+    def _look_for(self, object_id: int, purpose: str, yaw0: float, pitch0: float) -> Look:
+        """Where to look from the end of a walk to a stand for ``purpose``: the aim for an
+        interaction, else the object's centre (or the point of it in sight)."""
+        o = self.oracle
+
+        def look(xy):
+            eye = o.eye_at(xy)
+            if purpose in ("aim", "put"):
+                aim = self._aim(object_id, eye, yaw0, pitch0, purpose == "put")
+                if aim is not None:
+                    return aim
+            if purpose == "see":
+                seen = o.seen_point(object_id, eye, FIND_DISTANCE)
+                if seen is not None:
+                    return self._angles_to(eye, seen)
+            return self._angles_to(eye, o.object_centre(object_id))
+
+        return look
 
     # -- the instructions ----------------------------------------------------------------------
     def goto_user(self) -> tuple | None:
+        """Walk until within talking distance (1 m) of the user, and face them."""
         o = self.oracle
         user = o.user_position
         if o.horizontal_distance(user) <= COME_HERE_STOP + ARRIVED:
             return None
-        return self.walk(user, stop_short=COME_HERE_STOP, then_face=user, keep_clear=False)
+        # The stand moves with the user only: it is where the shortest way to them first
+        # comes within 1 m, which stays put as the agent walks that way.
+        key = (o.episode_key, "user", round(float(user[0]), 2), round(float(user[1]), 2))
+        stand = self._stands.get(key) or o.user_stand()
+        if stand is None:
+            raise PlanningError(f"the user at ({user[0]:.2f}, {user[1]:.2f}) cannot be approached")
+        self._stands[key] = stand
+        return self.walk(stand, then_look=lambda xy: (_heading(xy, user), 0.0))
 
-    def goto(self, object_id: int) -> tuple | None:
-        """Walk to where the object is within reach and in sight, and face it. When holding
-        something, "within reach" means: a free spot of its surface can be aimed at."""
+    def goto(self, object_id: int, then_target: bool = False) -> tuple | None:
+        """Walk to where the object is within reach and in sight, and face it. Before a
+        ``target`` of the same object (``then_target``), walk to where it can be aimed at
+        instead and leave the facing to ``target``. When holding something, "within reach"
+        means: a free spot of its surface can be aimed at."""
         o = self.oracle
         put = o.held is not None and o.held != object_id
-        stand = self._reach_stand(object_id, put)
-        centre = o.object_centre(object_id)
-        step = self.walk(stand, then_face=centre)
-        if step is not None:
-            return step
-        return self.face(centre)
-
-    def _reach_stand(self, object_id: int, put: bool) -> tuple[float, float]:
-        o = self.oracle
-        reach = o.reach
-
-        def strong(xy):  # within reach and the centre in sight (GoTo's success test)
-            eye = o.eye_at(xy)
-            centre = o.object_centre(object_id)
-            if o.reach_distance(xy, object_id) > reach - STAND_SLACK:
-                return False
-            yaw, pitch = yaw_pitch_to(eye, centre)
-            lo, hi = o.pitch_range
-            if not lo <= pitch <= hi:
-                return False
-            hit = o.cast(yaw, pitch, eye)
-            if hit is None or hit.object_id != object_id:
-                return False
-            return self._aim(object_id, eye, put, reach=(reach - STAND_SLACK) / REACH_MARGIN) is not None
-
-        def weak(xy):
-            return self._aim(object_id, o.eye_at(xy), put, reach=(reach - STAND_SLACK) / REACH_MARGIN) is not None
-
-        purpose = "put" if put else "reach"
-        try:
-            return self._stand(object_id, purpose, reach, strong)
-        except PlanningError:
-            return self._stand(object_id, purpose + "-weak", reach, weak)
+        purposes = ("put",) if put else ("aim",) if then_target else ("sight", "aim")
+        for _ in range(STAND_RETRIES):
+            stand, purpose = self._stand(object_id, purposes)
+            pose = o.pose
+            step = self.walk(stand, then_look=self._look_for(object_id, purpose, pose.yaw, pose.pitch))
+            if step is not None:
+                return step
+            if purpose in ("aim", "put"):
+                if then_target or self._aim(object_id, o.eye, pose.yaw, pose.pitch, put) is not None:
+                    return None  # target() aims (and walks on if it cannot aim from here)
+            elif o.is_visible(object_id):
+                return None
+            elif o.centre_in_sight(object_id):
+                return self.face(o.object_centre(object_id))
+            self._reject_stand(object_id, purpose)
+        raise PlanningError(f"object {object_id} ({o.name_of(object_id)}) is not in sight from its standing points")
 
     def target(self, object_id: int) -> tuple[tuple | None, bool]:
         """Aim so that ``interact()`` acts on the object. Returns ``(step, aimed)``: the next
         action (None when already aimed) and whether the pose after it is aimed."""
         o = self.oracle
         put = o.held is not None and o.held != object_id
-        pose = o.pose
-        eye = o.eye
-        if self._hits(object_id, eye, pose.yaw, pose.pitch, put, o.reach):
-            return None, True
-        aim = self._aim(object_id, eye, put, from_pose=(pose.yaw, pose.pitch))
-        for _ in range(3):
+        purpose = "put" if put else "aim"
+        for _ in range(STAND_RETRIES):
+            pose = o.pose
+            eye = o.eye
+            if self._hits(object_id, eye, pose.yaw, pose.pitch, put):
+                return None, True
+            aim = self._aim(object_id, eye, pose.yaw, pose.pitch, put)
             if aim is not None:
-                break
-            # Not from here: walk to a spot that has an aim first (another one if this is it).
-            stand = self._reach_stand(object_id, put)
-            step = self.walk(stand, then_face=o.object_centre(object_id))
+                yaw, pitch = aim
+                error = wrap(yaw - pose.yaw)
+                step = self._step(self._turn(error), self._tilt(pitch - pose.pitch))
+                limits = o.limits
+                return step, abs(error) <= limits.max_rotate_right and abs(pitch - pose.pitch) <= limits.max_rotate_down
+            # Not from here: walk to a stand that has an aim (another one if this is it).
+            stand, _ = self._stand(object_id, (purpose,))
+            step = self.walk(stand, then_look=self._look_for(object_id, purpose, pose.yaw, pose.pitch))
             if step is not None:
                 return step, False
-            for purpose in ("put", "put-weak") if put else ("reach", "reach-weak"):
-                self._reject_stand(object_id, purpose)
-        if aim is None:
-            raise PlanningError(f"object {object_id} ({o.name_of(object_id)}) cannot be aimed at "
-                                "from its standing points")
-        yaw, pitch = aim
-        error = wrap(yaw - pose.yaw)
-        step = self._step(self._turn(error), self._tilt(pitch - pose.pitch))
-        limit = o.limits.max_rotate_right
-        return step, abs(error) <= limit and abs(pitch - pose.pitch) <= o.limits.max_rotate_down
+            self._reject_stand(object_id, purpose)
+        raise PlanningError(f"object {object_id} ({o.name_of(object_id)}) cannot be aimed at "
+                            "from its standing points")
 
     def find(self, object_id: int) -> tuple | None:
         """Walk until the object is within 3 m and in sight, then look at it."""
         o = self.oracle
-        seen = self._visible_point(object_id, o.eye)
-        if seen is not None:
-            if o.is_visible(object_id):
-                return None
-            return self.face(seen)
-
-        def good(xy):
-            return self._visible_point(object_id, o.eye_at(xy)) is not None
-
-        stand = self._stand(object_id, "see", FIND_DISTANCE, good)
-        step = self.walk(stand, then_face=o.object_centre(object_id))
-        if step is None:
-            return self.face(o.object_centre(object_id))
-        return step
-
-    def _visible_point(self, object_id: int, eye: np.ndarray) -> np.ndarray | None:
-        """A point of the object within 3 m of ``eye`` (horizontally) that a ray reaches."""
-        o = self.oracle
-        lo, hi = o.pitch_range
-        for point in o.aim_points(object_id):
-            if np.hypot(point[0] - eye[0], point[1] - eye[1]) > FIND_DISTANCE:
-                continue
-            yaw, pitch = yaw_pitch_to(eye, point)
-            if not lo <= pitch <= hi:
-                continue
-            hit = o.cast(yaw, pitch, eye)
-            if hit is not None and hit.object_id == object_id:
-                return point
-        return None
+        for _ in range(STAND_RETRIES):
+            seen = o.seen_point(object_id, o.eye, FIND_DISTANCE)
+            if seen is not None:
+                if o.is_visible(object_id):
+                    return None
+                return self.face(seen)
+            pose = o.pose
+            stand, _ = self._stand(object_id, ("see",))
+            step = self.walk(stand, then_look=self._look_for(object_id, "see", pose.yaw, pose.pitch))
+            if step is not None:
+                return step
+            self._reject_stand(object_id, "see")
+        raise PlanningError(f"object {object_id} ({o.name_of(object_id)}) is not in sight from its standing points")
 
 
 def _trim(points: list[np.ndarray], stop_short: float) -> list[np.ndarray]:
@@ -338,3 +360,4 @@ def _trim(points: list[np.ndarray], stop_short: float) -> list[np.ndarray]:
         out.append(b)
         run += length
     return out
+

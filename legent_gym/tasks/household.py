@@ -10,6 +10,10 @@ Success rules (LEGENT's where it had one):
 * WhereIs(A): the agent's speech names A's receptacle (its name or a synonym, a
   lower-cased substring match as in LEGENT); any speech ends the episode.
 * PutOn(A, B): A rests on B (not held, on one of B's surfaces, at rest).
+
+Goals are drawn only among those the task expert can complete within the paper's
+25-action cap (:mod:`legent_gym.tasks.feasibility`: somewhere to stand to see or act on
+the objects, and an estimated plan of at most ``PLAN_BUDGET`` actions).
 """
 
 from __future__ import annotations
@@ -17,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
+from legent_gym.tasks.feasibility import PLAN_BUDGET, Leg, stand_leg, user_leg
 
 COME_HERE_DISTANCE = 2.0
 
@@ -31,6 +36,20 @@ def _goal_distance(ctx: TaskContext, point) -> float:
 
 def _object_distance(ctx: TaskContext, object_id: int) -> float:
     return ctx.distance_to_object(object_id)
+
+
+def _draw(options: list, rng, achievable):
+    """A uniformly drawn option that passes ``achievable`` (checked lazily, in the drawn
+    order, so only the drawn goal pays for the check), or None."""
+    for i in rng.permutation(len(options)):
+        if achievable(options[int(i)]):
+            return options[int(i)]
+    return None
+
+
+def _fits(*legs: Leg | None, interactions: int = 0) -> bool:
+    """Every walk exists, and with the interactions the expert's plan stays within budget."""
+    return None not in legs and sum(leg.actions for leg in legs) + interactions <= PLAN_BUDGET
 
 
 def _rests_on(ctx: TaskContext, item: int, host: int) -> bool:
@@ -73,6 +92,8 @@ class ComeHere(Task):
         return {"min_user_distance": 3.0}  # LEGENT's evaluation starts at least 3 m apart
 
     def sample(self, ctx, rng):
+        if not _fits(user_leg(ctx)):  # a house too big to cross in an episode
+            return None
         return ComeHereInstance(self.word(rng))
 
 
@@ -93,16 +114,21 @@ class GoTo(Task):
                  "Can you go to the {a}?")
 
     def sample(self, ctx, rng):
-        options = [o for o in ctx.unique_objects() if ctx.reachable_from_agent(o, ctx.agent.reach)
-                   and ctx.agent.horizontal_distance(ctx.object_centre(o)) > ctx.agent.reach + 0.5]
-        if not options:
+        # Not reached at the start: measured to the footprint, as success is (a large bed's
+        # centre may be 2 m away and its side within reach).
+        options = [o for o in ctx.unique_objects()
+                   if ctx.reach_distance(ctx.agent.position, o) > ctx.agent.reach + 0.5]
+        # Only a target that can be within reach with its centre in sight (success) from
+        # somewhere, in an episode's actions.
+        target = _draw(options, rng, lambda o: _fits(stand_leg(ctx, o, "sight")))
+        if target is None:
             return None
-        target = int(rng.choice(options))
         return GoToInstance(self.word(rng, a=ctx.name_of(target)), target)
 
 
 def _pickable(ctx: TaskContext) -> list[int]:
-    return [o for o in ctx.unique_objects(interactable=True) if ctx.reachable_from_agent(o, ctx.agent.reach)]
+    # Whether each can be reached is checked for the drawn one only (``stand_leg``).
+    return ctx.unique_objects(interactable=True)
 
 
 @dataclass
@@ -121,10 +147,9 @@ class PickUp(Task):
                  "Take the {a}.")
 
     def sample(self, ctx, rng):
-        options = _pickable(ctx)
-        if not options:
+        target = _draw(_pickable(ctx), rng, lambda o: _fits(stand_leg(ctx, o, "aim"), interactions=1))
+        if target is None:
             return None
-        target = int(rng.choice(options))
         return PickUpInstance(self.word(rng, a=ctx.name_of(target)), target)
 
 
@@ -152,9 +177,14 @@ class BringMe(Task):
     def sample(self, ctx, rng):
         options = [o for o in _pickable(ctx)
                    if ctx.user.horizontal_distance(ctx.object_centre(o)) > COME_HERE_DISTANCE]
-        if not options:
+
+        def achievable(o):  # grab it, then walk up to the user, in an episode's actions
+            fetch = stand_leg(ctx, o, "aim")
+            return fetch is not None and _fits(fetch, user_leg(ctx, fetch.end, fetch.yaw), interactions=1)
+
+        target = _draw(options, rng, achievable)
+        if target is None:
             return None
-        target = int(rng.choice(options))
         return BringMeInstance(self.word(rng, a=ctx.name_of(target)), target)
 
 
@@ -184,7 +214,7 @@ class WhereIs(Task):
         options = []
         for o in ctx.unique_objects(interactable=True):
             host = ctx.scene.object(o).on
-            if host is None or not ctx.reachable_from_agent(o, 3.0):
+            if host is None:
                 continue
             # The answer must name the host unambiguously: no other object shares a name with it.
             host_names = ctx.names_of(host)
@@ -192,9 +222,11 @@ class WhereIs(Task):
                         for n in host_names[:1])
             if not clash:
                 options.append((o, host))
-        if not options:
+        # Only an object that can be found (in sight within 3 m of somewhere), in an episode's actions.
+        drawn = _draw(options, rng, lambda pair: _fits(stand_leg(ctx, pair[0], "see"), interactions=1))
+        if drawn is None:
             return None
-        target, host = options[int(rng.integers(len(options)))]
+        target, host = drawn
         return WhereIsInstance(self.word(rng, a=ctx.name_of(target)), target, host, tuple(ctx.names_of(host)))
 
 
@@ -222,12 +254,22 @@ class PutOn(Task):
         items = _pickable(ctx)
         hosts = [o for o in ctx.unique_objects(interactable=False)
                  if any(r.link == "base" and r.clearance > 0.25 and r.area > 0.08
-                        for r in ctx.world.assets[o].receptacles)
-                 and ctx.reachable_from_agent(o, ctx.agent.reach)]
+                        for r in ctx.world.assets[o].receptacles)]
         pairs = [(a, b) for a in items for b in hosts if ctx.scene.object(a).on != b]
-        if not pairs:
+        fetches: dict[int, Leg | None] = {}
+
+        def achievable(pair):  # grab a, then put it on b where it fits, in an episode's actions
+            a, b = pair
+            if a not in fetches:
+                fetches[a] = stand_leg(ctx, a, "aim")
+            fetch = fetches[a]
+            return fetch is not None and _fits(fetch, stand_leg(ctx, b, "put", fetch.end, fetch.yaw, item=a),
+                                               interactions=2)
+
+        drawn = _draw(pairs, rng, achievable)
+        if drawn is None:
             return None
-        a, b = pairs[int(rng.integers(len(pairs)))]
+        a, b = drawn
         return PutOnInstance(self.word(rng, a=ctx.name_of(a), b=ctx.name_of(b)), a, b)
 
 
