@@ -234,14 +234,24 @@ class Oracle:
         episode's own grid (where a narrow passage may only be open without the margin)."""
         ctx = self._ctx
         start = tuple(ctx.agent.position) if start is None else (float(start[0]), float(start[1]))
-        if keep_clear:
-            for margin in (feasibility.PLANNING_MARGIN, 0.0):
-                grid = feasibility.planning_grid(ctx, margin)
-                if grid.reachable(start, goal):
-                    path = feasibility.walk_path(ctx, start, goal, grid)
-                    if path:
-                        return path
-        return feasibility.walk_path(ctx, start, goal, ctx.nav)
+        grids = [feasibility.planning_grid(ctx, m) for m in (feasibility.PLANNING_MARGIN, 0.0)] if keep_clear else []
+        for grid in grids:
+            if grid.reachable(start, goal):
+                path = feasibility.walk_path(ctx, start, goal, grid)
+                if path:
+                    return path
+        path = feasibility.walk_path(ctx, start, goal, ctx.nav)
+        if path:
+            return path
+        # Off the grid (another policy pushed the agent against something), the nearest
+        # walkable cell may lie across a wall: step back onto the floor in sight instead.
+        for grid in [*grids, ctx.nav]:
+            entry = _entry_point(grid, start, goal)
+            if entry is not None:
+                path = feasibility.walk_path(ctx, entry, goal, grid)
+                if path:
+                    return [np.asarray(start, dtype=float), *path]
+        return []
 
     def stands(self, object_id: int, purpose: str) -> Iterator[tuple[float, float]]:
         """Walkable points serving ``purpose`` for the object ("sight", "aim", "put" or
@@ -282,9 +292,36 @@ class Oracle:
             here = grid.nearest_walkable(tuple(point))
             if here is None or not grid.reachable(here, goal):
                 continue
-            return float(grid.distance_field(tuple(goal))[grid.to_cell(here)])
+            # Off the grid (pushed against a wall, out of the door), the way back counts too.
+            return float(grid.distance_field(tuple(goal))[grid.to_cell(here)]) + math.dist(here, point)
         return math.inf
 
     def free_distance(self, heading: float, distance: float) -> float:
         """How far the agent could walk along ``heading`` (degrees) before touching anything."""
         return self._ctx.agent.free_distance(heading, distance)
+
+
+def _entry_point(grid: NavGrid, start: Sequence[float], goal: Sequence[float],
+                 radius: float = 1.0) -> tuple[float, float] | None:
+    """A walkable cell within ``radius`` of an off-grid ``start``, in sight of it (no wall
+    between) and joined to ``goal``: the one nearest to ``start``, or None."""
+    target = grid.component(goal)
+    if target == 0:
+        return None
+    r = int(math.ceil(radius / grid.resolution))
+    row, col = grid.to_cell(start)
+    candidates = []
+    for dr in range(-r, r + 1):
+        for dc in range(-r, r + 1):
+            cell = (row + dr, col + dc)
+            if not (0 <= cell[0] < grid.shape[0] and 0 <= cell[1] < grid.shape[1]):
+                continue
+            if grid.walkable[cell] and grid.labels[cell] == target:
+                xy = grid.to_world(cell)
+                d = math.dist(xy, start)
+                if d <= radius:
+                    candidates.append((d, xy))
+    for _, xy in sorted(candidates):
+        if grid.line_of_sight(start, xy):
+            return xy
+    return None

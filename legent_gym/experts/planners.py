@@ -145,21 +145,25 @@ class Planner:
         way along it with the next action."""
         o = self.oracle
         pose = o.pose
-        best, best_left = None, o.geodesic((pose.x, pose.y), goal)
-        for delta in (15, -15, 30, -30, 45, -45, 60, -60, 90, -90, 120, -120, 150, -150, 180):
-            heading = pose.yaw + delta
-            if o.free_distance(heading, DETOUR_STEP) < DETOUR_STEP - 1e-3:
-                continue
-            rad = math.radians(heading)
-            landing = (pose.x + math.cos(rad) * DETOUR_STEP, pose.y + math.sin(rad) * DETOUR_STEP)
-            left = o.geodesic(landing, goal)
-            if left < best_left - 0.05:
-                best, best_left = delta, left
-        if best is None:
-            raise PlanningError(f"stuck at ({pose.x:.2f}, {pose.y:.2f}): every way forward is blocked")
-        turn = self._turn(best)
-        self._detour = (o.episode_key, pose.yaw - turn.degrees, DETOUR_STEP)
-        return (turn,)
+        now = o.geodesic((pose.x, pose.y), goal)
+        # A full step first; squeezed against something (after another policy's moves),
+        # shorter ones that still gain.
+        for step_length, gain in ((DETOUR_STEP, 0.05), (DETOUR_STEP / 2, 0.02), (DETOUR_STEP / 3, 0.01)):
+            best, best_left = None, now - gain
+            for delta in (15, -15, 30, -30, 45, -45, 60, -60, 90, -90, 120, -120, 150, -150, 180):
+                heading = pose.yaw + delta
+                if o.free_distance(heading, step_length) < step_length - 1e-3:
+                    continue
+                rad = math.radians(heading)
+                landing = (pose.x + math.cos(rad) * step_length, pose.y + math.sin(rad) * step_length)
+                left = o.geodesic(landing, goal)
+                if left < best_left:
+                    best, best_left = delta, left
+            if best is not None:
+                turn = self._turn(best)
+                self._detour = (o.episode_key, pose.yaw - turn.degrees, round(step_length, 2))
+                return (turn,)
+        raise PlanningError(f"stuck at ({pose.x:.2f}, {pose.y:.2f}): every way forward is blocked")
 
     def face(self, point: Sequence[float]) -> tuple | None:
         """Turn (yaw and pitch) to look straight at ``point``; None if already looking."""
