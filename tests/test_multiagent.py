@@ -415,3 +415,31 @@ def test_benchmark_script_runs(capsys, monkeypatch):
     assert bench.main(["--ids", "Legent/PickUp-OneRoom-v0", "--steps", "20", "--size", "32", "--repeats", "1"]) == 0
     row = capsys.readouterr().out.splitlines()[-1].split()
     assert row[0] == "Legent/PickUp-OneRoom-v0" and float(row[1]) > 0 and float(row[2]) > 0
+
+
+def expert_with_wandering_user(episodes: int) -> int:
+    """Successes of the task expert acting for the agent while the user wanders."""
+    from legent_gym.wrappers import ExpertPolicy
+
+    env = ExpertPolicy(ma.make_single_agent("Legent/ComeHere-TwoRoom-v0", partner="wander", width=32, height=32))
+    wins = 0
+    for seed in range(episodes):
+        env.reset(seed=seed)
+        for _ in range(25):
+            _, _, terminated, truncated, info = env.step(None)
+            if terminated or truncated:
+                break
+        wins += bool(info["success"])
+    env.close()
+    return wins
+
+
+def test_expert_with_a_wandering_user():
+    assert expert_with_wandering_user(5) >= 4
+
+
+@pytest.mark.slow
+def test_expert_with_a_wandering_user_acceptance():
+    wins = expert_with_wandering_user(200)
+    print(f"expert with a wandering user, ComeHere-TwoRoom: {wins}/200")
+    assert wins >= 190  # >= 95%
