@@ -1,0 +1,163 @@
+"""Success rates of the VLA (and of the random and expert bounds) on seeded episodes.
+
+Episode ``i`` of an evaluation resets the env with seed ``seed + i`` (as
+:func:`baselines.evaluate.run_episodes` does), in chunks of :data:`CHUNK` episodes that
+worker processes share out. Each chunk is a ``run_episodes`` call of its own, so a policy
+with its own randomness (the random baseline) is seeded per chunk and the result does not
+depend on the number of workers::
+
+    python -m baselines.vla.evaluate --policy runs/vla/come1/model.pt \\
+        --env Legent/ComeHere-OneRoom-v0 --episodes 100 --seed 0 --workers 2
+
+``--policy`` is a checkpoint, ``random`` or ``expert`` (the task expert, privileged).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import multiprocessing
+import os
+import sys
+from collections.abc import Sequence
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import asdict
+
+import gymnasium as gym
+
+import legent_gym  # noqa: F401  (registers the environments)
+from baselines.evaluate import EpisodeResult, RandomPolicy, run_episodes
+from legent_gym.wrappers.expert import ExpertInfo
+
+CHUNK = 10
+RANDOM, EXPERT = "random", "expert"
+
+
+def run_expert(env_id: str, episodes: int, seed: int, env_kwargs: dict | None = None) -> list[EpisodeResult]:
+    """The task expert (``info["expert_action"]``) on the seeds ``run_episodes`` would use."""
+    env = ExpertInfo(gym.make(env_id, **(env_kwargs or {})))
+    results = []
+    try:
+        for i in range(episodes):
+            obs, info = env.reset(seed=seed + i)
+            total, steps, done = 0.0, 0, False
+            while not done:
+                obs, reward, terminated, truncated, info = env.step(info["expert_action"])
+                total += float(reward)
+                steps += 1
+                done = terminated or truncated
+            results.append(EpisodeResult(seed + i, obs["instruction"], bool(info["success"]), steps, total,
+                                         info.get("house_seed"), info.get("distance_to_goal")))
+    finally:
+        env.close()
+    return results
+
+
+_policies: dict[str, object] = {}
+
+
+def _policy(spec: str):
+    """One policy object per spec and process (a checkpoint is loaded once per worker)."""
+    if spec not in _policies:
+        if spec == RANDOM:
+            _policies[spec] = RandomPolicy()
+        else:
+            from baselines.vla.policy import VLAPolicy
+
+            _policies[spec] = VLAPolicy(spec)
+    return _policies[spec]
+
+
+def _init_worker() -> None:
+    import torch
+
+    torch.set_num_threads(1)  # the workers are the parallelism
+
+
+def run_chunk(spec: str, env_id: str, seed: int, episodes: int, env_kwargs: dict) -> list[EpisodeResult]:
+    if spec == EXPERT:
+        return run_expert(env_id, episodes, seed, env_kwargs)
+    return run_episodes(_policy(spec), env_id, episodes, seed, env_kwargs)
+
+
+def _chunks(episodes: int, seed: int) -> list[tuple[int, int]]:
+    return [(seed + start, min(CHUNK, episodes - start)) for start in range(0, episodes, CHUNK)]
+
+
+def check_policy(spec: str) -> str:
+    if spec in (RANDOM, EXPERT):
+        return spec
+    if not os.path.isfile(spec):
+        raise FileNotFoundError(f"policy {spec!r} is neither 'random', 'expert' nor a checkpoint file")
+    return os.path.abspath(spec)
+
+
+def evaluate_many(jobs: Sequence[tuple[str, str]], episodes: int, seed: int, env_kwargs: dict,
+                  workers: int = 1) -> list[list[EpisodeResult]]:
+    """Episode results for each ``(policy spec, env id)`` job, in the order given.
+
+    All jobs use the seeds ``seed .. seed + episodes - 1``, so every policy meets the same
+    houses, goals and instructions."""
+    if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
+        raise ValueError(f"episodes must be a positive integer, got {episodes!r}")
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    jobs = [(check_policy(spec), env_id) for spec, env_id in jobs]
+    for _, env_id in jobs:
+        if env_id not in gym.registry:
+            raise ValueError(f"unknown environment id {env_id!r}")
+    calls = [(j, (spec, env_id, s, n, env_kwargs)) for j, (spec, env_id) in enumerate(jobs)
+             for s, n in _chunks(episodes, seed)]
+    results: list[list[EpisodeResult]] = [[] for _ in jobs]
+    if workers == 1:
+        for j, args in calls:
+            results[j] += run_chunk(*args)
+        return results
+    # forkserver: forking a process that holds an EGL context hangs (ENGINEERING-NOTES.md).
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("forkserver"),
+                             initializer=_init_worker) as pool:
+        futures = [(j, pool.submit(run_chunk, *args)) for j, args in calls]
+        for j, future in futures:
+            results[j] += future.result()
+    return results
+
+
+def success_rate(results: Sequence[EpisodeResult]) -> float:
+    return sum(r.success for r in results) / len(results)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description="Success rate of a VLA checkpoint, 'random' or 'expert'.")
+    p.add_argument("--policy", required=True, help="a checkpoint (model.pt), 'random' or 'expert'")
+    p.add_argument("--env", action="append", required=True, help="environment id; repeat for several")
+    p.add_argument("--episodes", type=int, default=100)
+    p.add_argument("--seed", type=int, default=0, help="episode i resets with seed + i")
+    p.add_argument("--image-size", type=int, help="view size for random/expert (a checkpoint knows its own)")
+    p.add_argument("--workers", type=int, default=1)
+    p.add_argument("--json", action="store_true", help="print every episode as JSON")
+    args = p.parse_args(argv)
+    try:
+        spec = check_policy(args.policy)
+        if spec in (RANDOM, EXPERT):
+            size = args.image_size
+        else:
+            from baselines.vla.checkpoint import read_checkpoint
+
+            size = read_checkpoint(spec)["config"]["image_size"]
+        env_kwargs = {"width": size, "height": size} if size else {}
+        all_results = evaluate_many([(spec, e) for e in args.env], args.episodes, args.seed, env_kwargs,
+                                    args.workers)
+    except (FileNotFoundError, ValueError) as err:
+        print(f"evaluate: error: {err}", file=sys.stderr)
+        return 2
+    for env_id, results in zip(args.env, all_results):
+        if args.json:
+            for r in results:
+                print(json.dumps(asdict(r)))
+        print(f"{args.policy} on {env_id}: success {success_rate(results):.3f} over {len(results)} episodes "
+              f"(seeds {args.seed}..{args.seed + args.episodes - 1})")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,183 @@
+"""A compact vision-language-action model in plain torch (no torchvision, no downloads).
+
+Input, as in the paper: the instruction and an image-text interleaved window of the last k
+views and the actions between them::
+
+    [instruction words] [view] [action] [view] [action] ... [view]
+
+* views: a small CNN (four stride-2 convolutions) whose flattened feature map goes through
+  a linear layer to one token; flattening keeps *where* things are in the view, which the
+  turn towards a goal depends on;
+* instruction words: embeddings from a vocabulary built from the training data;
+* history actions: an embedding of the action's template, a linear map of its numbers and
+  an embedding of what it said;
+* a transformer encoder over the sequence (the window is left-padded, so the current view
+  is always the last token, at the same position).
+
+Output, from the last token: the action's template, a bin and an in-bin offset for each
+numeric slot, and a sentence (see :mod:`baselines.vla.codec`); :meth:`VLA.decode` writes
+them as action code.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import torch
+from torch import nn
+from torch.nn import functional as F
+
+from baselines.vla.codec import ActionCodec
+
+
+@dataclass(frozen=True)
+class ModelConfig:
+    image_size: int = 64
+    window: int = 6
+    d_model: int = 128
+    heads: int = 4
+    layers: int = 3
+    ff: int = 256
+    dropout: float = 0.1
+    channels: tuple[int, ...] = (16, 32, 64, 128)
+
+    def __post_init__(self) -> None:
+        stride = 2 ** len(self.channels)
+        if self.image_size < stride or self.image_size % stride:
+            raise ValueError(f"image_size must be a multiple of {stride} (the CNN halves it "
+                             f"{len(self.channels)} times), got {self.image_size}")
+        if self.window < 1:
+            raise ValueError(f"window must be >= 1 view, got {self.window}")
+        if self.d_model % self.heads:
+            raise ValueError(f"d_model ({self.d_model}) must be divisible by heads ({self.heads})")
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict) -> ModelConfig:
+        return cls(**{**data, "channels": tuple(data["channels"])})
+
+
+class ImageEncoder(nn.Module):
+    def __init__(self, config: ModelConfig):
+        super().__init__()
+        layers, previous = [], 3
+        for i, channels in enumerate(config.channels):
+            kernel = 5 if i == 0 else 3
+            layers += [nn.Conv2d(previous, channels, kernel, stride=2, padding=kernel // 2),
+                       nn.GroupNorm(8, channels), nn.ReLU()]
+            previous = channels
+        self.convs = nn.Sequential(*layers)
+        side = config.image_size // 2 ** len(config.channels)
+        self.project = nn.Linear(previous * side * side, config.d_model)
+
+    def forward(self, images: torch.Tensor) -> torch.Tensor:
+        """(N, 3, H, W) uint8 -> (N, d_model)."""
+        x = images.float() / 127.5 - 1.0
+        return self.project(self.convs(x).flatten(1))
+
+
+class VLA(nn.Module):
+    def __init__(self, config: ModelConfig, codec: ActionCodec, vocab_size: int, max_words: int):
+        super().__init__()
+        self.config, self.codec = config, codec
+        d, k = config.d_model, config.window
+        self.n_slots, self.bins = len(codec.slots), codec.bins
+        self.images = ImageEncoder(config)
+        self.words = nn.Embedding(vocab_size, d, padding_idx=0)
+        self.word_position = nn.Parameter(torch.zeros(max_words, d))
+        self.template = nn.Embedding(codec.n_templates, d)
+        self.numbers = nn.Linear(max(self.n_slots, 1), d)
+        self.speech = nn.Embedding(codec.n_speeches, d)
+        self.window_position = nn.Parameter(torch.zeros(2 * k - 1, d))
+        self.kind = nn.Embedding(3, d)  # word, view, action
+        nn.init.normal_(self.word_position, std=0.02)
+        nn.init.normal_(self.window_position, std=0.02)
+        layer = nn.TransformerEncoderLayer(d, config.heads, config.ff, config.dropout, batch_first=True,
+                                           norm_first=True, activation="gelu")
+        self.encoder = nn.TransformerEncoder(layer, config.layers, enable_nested_tensor=False)
+        self.norm = nn.LayerNorm(d)
+        self.head_template = nn.Linear(d, codec.n_templates)
+        self.head_bins = nn.Linear(d, max(self.n_slots, 1) * self.bins)
+        self.head_offsets = nn.Linear(d, max(self.n_slots, 1) * self.bins)
+        self.head_speech = nn.Linear(d, codec.n_speeches)
+
+    def forward(self, images: torch.Tensor, window_images: torch.Tensor, instruction: torch.Tensor,
+                history_template: torch.Tensor, history_numbers: torch.Tensor,
+                history_speech: torch.Tensor) -> dict[str, torch.Tensor]:
+        """``images`` (N, 3, H, W) uint8 are the views of the batch, each once;
+        ``window_images`` (B, k) index into them (-1: padding, on the left); the rest as
+        :func:`baselines.vla.dataset.window_inputs` writes them, batched."""
+        batch, k = window_images.shape
+        d = self.config.d_model
+        views = self.images(images)                                     # (N, d)
+        shown = window_images >= 0
+        view_tokens = views[window_images.clamp(min=0)] + self.kind.weight[1]  # (B, k, d)
+        if self.n_slots == 0:
+            history_numbers = torch.zeros(*history_numbers.shape[:2], 1)
+        action_tokens = (self.template(history_template) + self.numbers(history_numbers)
+                         + self.speech(history_speech) + self.kind.weight[2])  # (B, k-1, d)
+        window = torch.zeros(batch, 2 * k - 1, d, dtype=views.dtype)
+        window[:, 0::2] = view_tokens
+        window[:, 1::2] = action_tokens
+        window = window + self.window_position
+        # An action is padding when the view before it is (the window is left-padded).
+        window_pad = torch.zeros(batch, 2 * k - 1, dtype=torch.bool)
+        window_pad[:, 0::2] = ~shown
+        window_pad[:, 1::2] = ~shown[:, :-1]
+        # Words are left-aligned: drop the columns that are padding in every sample (most
+        # instructions are far shorter than max_words, and attention cost grows with length).
+        instruction = instruction[:, : max(int((instruction != 0).sum(1).max()), 1)]
+        words = self.words(instruction) + self.word_position[: instruction.shape[1]] + self.kind.weight[0]
+        tokens = torch.cat([words, window], dim=1)
+        padding = torch.cat([instruction == 0, window_pad], dim=1)
+        hidden = self.norm(self.encoder(tokens, src_key_padding_mask=padding)[:, -1])
+        slots = max(self.n_slots, 1)
+        return {
+            "template": self.head_template(hidden),
+            "bins": self.head_bins(hidden).view(batch, slots, self.bins),
+            "offsets": 0.5 * torch.tanh(self.head_offsets(hidden).view(batch, slots, self.bins)),
+            "speech": self.head_speech(hidden),
+        }
+
+    @staticmethod
+    def loss(out: dict[str, torch.Tensor], batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict]:
+        """Cross-entropy on the template, bins and sentence; squared error on the offset of
+        the true bin. Absent slots and silent steps carry no loss."""
+        template = F.cross_entropy(out["template"], batch["target_template"])
+        total, parts = template, {"template": template.item()}
+        target_bins = batch["target_bins"]
+        present = target_bins >= 0
+        if present.any():
+            logits = out["bins"][present]
+            true_bins = target_bins[present]
+            bins = F.cross_entropy(logits, true_bins)
+            offset = out["offsets"][present].gather(1, true_bins[:, None]).squeeze(1)
+            offsets = F.mse_loss(offset, batch["target_offsets"][present]) * 4.0  # in half-bins
+            total = total + bins + offsets
+            parts.update(bins=bins.item(), offsets=offsets.item())
+        if (batch["target_speech"] >= 0).any():
+            speech = F.cross_entropy(out["speech"], batch["target_speech"], ignore_index=-100)
+            total = total + speech
+            parts["speech"] = speech.item()
+        return total, parts
+
+    def decode(self, out: dict[str, torch.Tensor]) -> list[str]:
+        """Greedy action code for each sample of a forward pass's output."""
+        texts = []
+        template_logits = out["template"].clone()
+        template_logits[:, 0] = -torch.inf  # never write the "unknown" template
+        templates = template_logits.argmax(-1).tolist()
+        bins = out["bins"].argmax(-1)                                       # (B, slots)
+        offsets = out["offsets"].gather(2, bins[..., None]).squeeze(-1)     # (B, slots)
+        speech_logits = out["speech"].clone()
+        speech_logits[:, 0] = -torch.inf
+        speeches = speech_logits.argmax(-1).tolist()
+        for b, template in enumerate(templates):
+            numbers = {}
+            for slot in self.codec.template_slots(template):
+                i = self.codec.slot_id(slot)
+                numbers[slot] = self.codec.from_bin(slot, int(bins[b, i]), float(offsets[b, i]))
+            texts.append(self.codec.format(template, numbers, speeches[b] if self.codec.n_speeches > 1 else 0))
+        return texts

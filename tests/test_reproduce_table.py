@@ -1,0 +1,89 @@
+"""`baselines/reproduce_table.py --scale small` end to end, as CI runs it: `legent-gym
+collect`, seven trainings, five rows x four tasks of evaluation, and the table in Markdown,
+CSV and PNG (the outputs are checked, not the success rates)."""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("torch", reason="install the 'baselines' extra: pip install -e '.[baselines]'")
+pytest.importorskip("matplotlib", reason="install the 'baselines' extra: pip install -e '.[baselines]'")
+
+from PIL import Image  # noqa: E402
+
+from baselines.reproduce_table import (  # noqa: E402
+    EVAL_TASKS,
+    PAPER_ROWS,
+    SCALES,
+    TRAIN_TASKS,
+    _trained,
+    main,
+    run,
+    training_runs,
+)
+from baselines.vla.checkpoint import load_model  # noqa: E402
+
+SCRIPT = Path(__file__).resolve().parents[1] / "baselines" / "reproduce_table.py"
+OUR_ROWS = 5  # random, Sep small, Sep large, Joint, expert
+
+
+def check_outputs(out: Path, scale: str) -> dict:
+    """The table in its three forms, the checkpoints and the record of the run."""
+    config = SCALES[scale]
+    md = (out / "table.md").read_text().splitlines()
+    assert md[0].startswith("| Model | Come Here, one room |") and len(md[0].split("|")) == 7
+    body = [line for line in md[2:] if line.startswith("|")]
+    assert len(body) == len(PAPER_ROWS) + OUR_ROWS
+    assert body[len(PAPER_ROWS)].startswith("| Random |") and body[-1].startswith("| Expert (privileged) |")
+    rows = list(csv.reader((out / "table.csv").open()))
+    assert rows[0] == ["model", "source", *EVAL_TASKS] and len(rows) == 1 + len(PAPER_ROWS) + OUR_ROWS
+    for row in rows[1:]:
+        assert all(0.0 <= float(x) <= 1.0 for x in row[2:])
+    with Image.open(out / "table.png") as image:
+        assert image.format == "PNG" and image.size[0] >= 800 and image.size[1] >= 300
+    results = json.loads((out / "results.json").read_text())
+    assert results["scale"] == scale and results["house_overlap_eval_vs_data"] == 0
+    assert set(results["wall_seconds"]) == {"data", "training", "evaluation", "total"}
+    for label, per_task in results["episodes"].items():
+        for task in EVAL_TASKS:
+            assert [e["seed"] for e in per_task[task]] == list(range(config.episodes)), (label, task)
+    models = sorted(p.parent.name for p in (out / "models").glob("*/model.pt"))
+    assert len(models) == 7  # 3 tasks x 2 amounts, and the joint model
+    model, _ = load_model(out / "models" / f"joint{config.large}" / "model.pt")
+    assert model.config.image_size == config.image_size
+    for task in TRAIN_TASKS:
+        progress = json.loads((out / "data" / task / "progress.json").read_text())
+        assert progress["progress"]["committed"] == config.large
+    return results
+
+
+def test_small_scale_from_the_command_line(tmp_path):
+    done = subprocess.run([sys.executable, str(SCRIPT), "--scale", "small", "--out", str(tmp_path)],
+                          capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "| VLA-Joint 20 (ours) |" in done.stdout and "house seeds shared" in done.stdout
+    check_outputs(tmp_path, "small")
+    # A second run would resume: every model is recognised as trained by this configuration.
+    folders = {task: tmp_path / "data" / task for task in TRAIN_TASKS}
+    assert all(_trained(config) for config in training_runs(tmp_path, folders, SCALES["small"]).values())
+    # The tables can be redrawn from results.json alone.
+    markdown, table = (tmp_path / "table.md").read_text(), (tmp_path / "table.csv").read_text()
+    for name in ("table.md", "table.csv", "table.png"):
+        (tmp_path / name).unlink()
+    assert main(["--scale", "small", "--out", str(tmp_path), "--redraw"]) == 0
+    assert (tmp_path / "table.md").read_text() == markdown and (tmp_path / "table.csv").read_text() == table
+    assert (tmp_path / "table.png").stat().st_size > 10_000
+
+
+def test_bad_arguments_are_named(tmp_path):
+    with pytest.raises(ValueError, match="unknown scale 'huge'"):
+        run("huge", tmp_path, workers=1)
+    with pytest.raises(ValueError, match="workers must be >= 1"):
+        run("small", tmp_path, workers=0)
+    assert main(["--out", str(tmp_path / "none"), "--redraw"]) == 2  # no results.json to redraw

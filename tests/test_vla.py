@@ -1,0 +1,295 @@
+"""The VLA baseline on real data from `legent-gym collect`: codec, data contract, model,
+training (determinism, resume), the policy in the env, and evaluation."""
+
+from __future__ import annotations
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+
+torch = pytest.importorskip("torch", reason="install the 'baselines' extra: pip install -e '.[baselines]'")
+
+from baselines.evaluate import run_episodes  # noqa: E402
+from baselines.vla.checkpoint import load_model, read_checkpoint  # noqa: E402
+from baselines.vla.codec import ActionCodec, decompose  # noqa: E402
+from baselines.vla.dataset import (  # noqa: E402
+    DatasetError,
+    batches,
+    encode,
+    mirror_slots,
+    read_trajectories,
+)
+from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many  # noqa: E402
+from baselines.vla.evaluate import main as evaluate_main  # noqa: E402
+from baselines.vla.model import VLA, ModelConfig  # noqa: E402
+from baselines.vla.policy import VLAPolicy  # noqa: E402
+from baselines.vla.train import FINAL, LAST, LOG, TrainConfig, train  # noqa: E402
+from baselines.vla.words import UNK, WordVocab  # noqa: E402
+from legent_gym.agent.actions import ActionParseError, parse_actions  # noqa: E402
+from legent_gym.data import CollectConfig, collect  # noqa: E402
+
+SIZE = 32
+# One thread: on a shared 2-core machine two torch threads contend and run ~10x slower.
+torch.set_num_threads(1)
+TINY = ModelConfig(image_size=SIZE, d_model=32, heads=4, layers=1, ff=64)
+
+
+@pytest.fixture(scope="module")
+def datasets(tmp_path_factory):
+    """Real expert data: 4 Come Here and 4 Where Is trajectories at 32x32."""
+    root = tmp_path_factory.mktemp("vla-data")
+    out = {}
+    for name, seed in (("ComeHere-OneRoom", 10_000_000), ("WhereIs-OneRoom", 12_000_000)):
+        collect(CollectConfig(f"Legent/{name}-v0", 4, str(root / name), formats=("legent",), seed=seed,
+                              env_kwargs={"width": SIZE, "height": SIZE}), show_progress=False)
+        out[name] = root / name
+    return out
+
+
+# -- codec -----------------------------------------------------------------------------------
+def test_decompose_and_format_round_trip():
+    codec = ActionCodec.fit(["move_forward(1.5), rotate_right(-30)", 'speak("It\'s on the bed.")',
+                             "rotate_right(90), rotate_down(20)", "grab(3)", "finish()"])
+    d = decompose("move_forward(1.5), rotate_right(-30)")
+    assert d.template == "move_forward(#), rotate_right(#)"
+    assert d.numbers == {"move_forward:0": 1.5, "rotate_right:0": -30.0} and d.speech is None
+    assert decompose("grab(3)").template == "grab(3)"  # ids are part of the template
+    tid = codec.template_id(d.template)
+    text = codec.format(tid, {"move_forward:0": 1.234, "rotate_right:0": -29.96}, 0)
+    assert text == "move_forward(1.23), rotate_right(-30)"
+    speak = codec.format(codec.template_id("speak(@)"), {}, codec.speech_id("It's on the bed."))
+    assert parse_actions(speak)[0].text == "It's on the bed."
+    assert codec.template_id("rotate_down(#)") == 0  # unseen template
+    with pytest.raises(ValueError, match="not a known template"):
+        codec.format(0, {}, 0)
+    with pytest.raises(ValueError, match="no value for slot"):
+        codec.format(tid, {"move_forward:0": 1.0}, 0)
+    assert ActionCodec.from_dict(json.loads(json.dumps(codec.to_dict()))).templates == codec.templates
+
+
+def test_bins_cover_the_range_and_invert():
+    codec = ActionCodec.fit(["move_forward(2), rotate_right(-90)"], bins=37)
+    for slot, values in (("move_forward:0", [0.0, 0.37, 1.999, 2.0, 5.0]),
+                         ("rotate_right:0", [-90.0, -47.9, 0.0, 12.3, 90.0])):
+        for value in values:
+            index, offset = codec.to_bin(slot, value)
+            assert 0 <= index < 37 and -0.5 <= offset <= 0.5
+            low, high = (0.0, 2.0) if slot.startswith("move") else (-90.0, 90.0)
+            assert codec.from_bin(slot, index, offset) == pytest.approx(min(max(value, low), high))
+    assert codec.to_bin("move_forward:0", 2.0) == (36, 0.0)  # the expert's favourite value is exact
+
+
+def test_unparsable_text_is_rejected_with_the_parser_message():
+    with pytest.raises(ActionParseError):
+        decompose("walk(3)")
+    assert ActionCodec.fit(["finish()"]).encode("walk(3)") is None
+
+
+def test_word_vocab():
+    vocab = WordVocab.fit(["Where's the cola?", "Come here."], max_words=4)
+    assert vocab.encode("where is the cola") == [vocab.encode("where")[0], UNK, vocab.encode("the")[0],
+                                                 vocab.encode("cola")[0]]
+    assert len(vocab.encode("a b c d e f")) == 4 and vocab.encode("") == [UNK]
+
+
+# -- data ------------------------------------------------------------------------------------
+def test_reads_collect_output_and_rebuilds_trajectories(datasets):
+    trajectories = read_trajectories(datasets["WhereIs-OneRoom"])
+    assert len(trajectories) == 4
+    saved = json.loads((datasets["WhereIs-OneRoom"] / "legent" / "trajectories.json").read_text())
+    for traj, record in zip(trajectories, saved):
+        assert traj.actions == [s["action"] for s in record["interactions"][1]["trajectory"]]
+        assert traj.instruction == record["interactions"][0]["text"]
+    assert all(t.actions[-1].startswith("speak(") for t in trajectories)
+    assert len(read_trajectories(datasets["WhereIs-OneRoom"], limit=2)) == 2
+
+
+def test_encoded_windows_match_the_jsonl_lines(datasets):
+    root = datasets["ComeHere-OneRoom"] / "legent"
+    loaded = [(root, t) for t in read_trajectories(root)]
+    codec = ActionCodec.fit(a for _, t in loaded for a in t.actions)
+    vocab = WordVocab.fit(t.instruction for _, t in loaded)
+    data = encode(loaded, codec, vocab, window=3)
+    lines = [json.loads(x) for x in (root / "interleaved.jsonl").read_text().splitlines()]
+    assert data.n_samples == len(lines) and data.images.shape[1:] == (SIZE, SIZE, 3)
+    paths = [p for _, t in loaded for p in t.image_paths]
+    for i, line in enumerate(lines):
+        shown = [paths[j] for j in data.window_images[i] if j >= 0]
+        assert shown == line["images"][-3:]  # the last 3 of the line's 6
+        n_hist = int((data.history_template[i] > 0).sum())
+        assert n_hist == min(len(line["history"]), 2)
+        assert codec.templates[data.target_template[i]] == decompose(line["action"]).template
+    batch = next(batches(data, [0, 1], 2, rng=None))
+    assert batch["images"].shape[1:] == (3, SIZE, SIZE)
+    assert int(batch["window_images"].max()) < batch["images"].shape[0]
+
+
+def test_mirrored_trajectories_flip_views_and_turns(datasets):
+    root = datasets["ComeHere-OneRoom"] / "legent"
+    loaded = [(root, t) for t in read_trajectories(root)]
+    codec = ActionCodec.fit(a for _, t in loaded for a in t.actions)
+    data = encode(loaded, codec, WordVocab.fit(t.instruction for _, t in loaded), window=6)
+    turn = codec.slot_id("rotate_right:0")
+    mirror = mirror_slots(codec)
+    assert mirror[turn] and not mirror[codec.slot_id("move_forward:0")]
+    plain = next(batches(data, range(4), 4, np.random.default_rng(7)))
+    flipped = next(batches(data, range(4), 4, np.random.default_rng(7), mirror))
+    seen = set()  # the same order in both: the shuffle comes before the flips
+    for i in range(len(plain["target_template"])):
+        view = int(plain["window_images"][i, -1])
+        was, now = plain["images"][view], flipped["images"][view]
+        is_flipped = not torch.equal(was, now)
+        if is_flipped:
+            assert torch.equal(now, was.flip(-1))
+        b0, b1 = int(plain["target_bins"][i, turn]), int(flipped["target_bins"][i, turn])
+        if b0 >= 0:
+            assert b1 == (codec.bins - 1 - b0 if is_flipped else b0)
+            o0, o1 = float(plain["target_offsets"][i, turn]), float(flipped["target_offsets"][i, turn])
+            assert o1 == pytest.approx(-o0 if is_flipped else o0)
+        h0, h1 = plain["history_numbers"][i, :, turn], flipped["history_numbers"][i, :, turn]
+        assert torch.equal(h1, -h0 if is_flipped else h0)
+        seen.add(is_flipped)
+    assert seen == {True, False}  # with this seed both kinds occur
+    assert torch.equal(plain["target_template"], flipped["target_template"])
+
+
+def test_broken_data_is_named(datasets, tmp_path):
+    copy = tmp_path / "copy"
+    shutil.copytree(datasets["ComeHere-OneRoom"] / "legent", copy)
+    lines = (copy / "interleaved.jsonl").read_text().splitlines()
+    second = json.loads(lines[1])
+    second["history"] = ["move_forward(1)"]
+    lines[1] = json.dumps(second)
+    (copy / "interleaved.jsonl").write_text("\n".join(lines) + "\n")
+    with pytest.raises(DatasetError, match=r"interleaved.jsonl:2 .*window is not"):
+        read_trajectories(copy)
+    (copy / "interleaved.jsonl").write_text('{"step": 0}\n')
+    with pytest.raises(DatasetError, match="missing field"):
+        read_trajectories(copy)
+    with pytest.raises(DatasetError, match="no interleaved.jsonl"):
+        read_trajectories(tmp_path / "nothing")
+
+
+# -- model and training ----------------------------------------------------------------------
+def test_model_learns_a_small_set_and_decodes_valid_code(datasets):
+    root = datasets["WhereIs-OneRoom"] / "legent"
+    loaded = [(root, t) for t in read_trajectories(root)]
+    codec = ActionCodec.fit(a for _, t in loaded for a in t.actions)
+    vocab = WordVocab.fit(t.instruction for _, t in loaded)
+    torch.manual_seed(0)
+    model = VLA(ModelConfig(image_size=SIZE, d_model=32, layers=1, ff=64, dropout=0.0), codec, len(vocab), vocab.max_words)
+    data = encode(loaded, codec, vocab, window=6)
+    batch = next(batches(data, range(4), 4, rng=None))
+    inputs = {k: v for k, v in batch.items() if not k.startswith("target")}
+    optimizer = torch.optim.Adam(model.parameters(), lr=3e-3)
+    first = None
+    for _ in range(100):
+        loss, _ = model.loss(model(**inputs), batch)
+        first = first if first is not None else loss.item()
+        optimizer.zero_grad()
+        loss.backward()
+        optimizer.step()
+    assert loss.item() < 0.1 * first
+    model.eval()
+    with torch.no_grad():
+        texts = model.decode(model(**inputs))
+    expected = [a for _, t in loaded for a in t.actions]
+    assert texts[-1].startswith("speak(")
+    assert sum(decompose(a).template == decompose(e).template for a, e in zip(texts, expected)) == len(expected)
+    for text in texts:
+        parse_actions(text)
+
+
+def _config(datasets, out, **kw) -> TrainConfig:
+    return TrainConfig((str(datasets["ComeHere-OneRoom"]), str(datasets["WhereIs-OneRoom"])), str(out),
+                       trajectories=3, epochs=2, trajectories_per_batch=2, threads=1, model=TINY, **kw)
+
+
+def test_training_is_deterministic_and_resumes(datasets, tmp_path):
+    a = train(_config(datasets, tmp_path / "a"), show_progress=False)
+    b = train(_config(datasets, tmp_path / "b"), show_progress=False)
+    wa = read_checkpoint(tmp_path / "a" / FINAL)["weights"]
+    wb = read_checkpoint(tmp_path / "b" / FINAL)["weights"]
+    assert all(torch.equal(wa[k], wb[k]) for k in wa) and a["train_loss"] == b["train_loss"]
+    assert len((tmp_path / "a" / LOG).read_text().splitlines()) == 2
+    # One epoch, stop, resume: the same weights as the uninterrupted run.
+    train(_config(datasets, tmp_path / "c"), show_progress=False, stop_after=1)
+    assert read_checkpoint(tmp_path / "c" / LAST)["epoch"] == 1 and not (tmp_path / "c" / FINAL).exists()
+    train(_config(datasets, tmp_path / "c"), resume=True, show_progress=False)
+    wc = read_checkpoint(tmp_path / "c" / FINAL)["weights"]
+    assert all(torch.equal(wa[k], wc[k]) for k in wa)
+    assert len((tmp_path / "c" / LOG).read_text().splitlines()) == 2
+    with pytest.raises(ValueError, match="another configuration"):
+        train(_config(datasets, tmp_path / "c", lr=5e-4), resume=True, show_progress=False)
+
+
+def test_training_rejects_mismatched_data(datasets, tmp_path):
+    with pytest.raises(DatasetError, match="4 trajectories, 9 wanted"):
+        train(TrainConfig((str(datasets["ComeHere-OneRoom"]),), str(tmp_path), trajectories=9, model=TINY),
+              show_progress=False)
+    with pytest.raises(DatasetError, match="views are 32x32 but the model takes 48x48"):
+        train(TrainConfig((str(datasets["ComeHere-OneRoom"]),), str(tmp_path), epochs=1,
+                          model=ModelConfig(image_size=48, d_model=32, layers=1)), show_progress=False)
+    with pytest.raises(ValueError, match="multiple of 16"):
+        ModelConfig(image_size=40)
+
+
+# -- policy and evaluation -------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def checkpoint(datasets, tmp_path_factory):
+    out = tmp_path_factory.mktemp("vla-model")
+    train(_config(datasets, out), show_progress=False)
+    return out / FINAL
+
+
+def test_policy_acts_in_the_env_with_the_papers_window(checkpoint):
+    policy = VLAPolicy(checkpoint)
+    assert policy.window == 6 and policy.env_kwargs == {"width": SIZE, "height": SIZE}
+    results = run_episodes(policy, "Legent/ComeHere-OneRoom-v0", 1, seed=3, env_kwargs=policy.env_kwargs)
+    assert results[0].steps >= 1
+    assert len(policy._views) == min(results[0].steps, 6) and len(policy._actions) <= 5
+    for text in policy._actions:
+        parse_actions(text)
+    policy.reset("Come here.")
+    with pytest.raises(ValueError, match="trained on 32x32"):
+        policy.act({"rgb": np.zeros((48, 48, 3), np.uint8)})
+    model, _ = load_model(checkpoint)
+    assert not model.training
+
+
+def test_evaluation_is_deterministic_and_bounded(checkpoint):
+    jobs = [(str(checkpoint), "Legent/ComeHere-OneRoom-v0"), (RANDOM, "Legent/ComeHere-OneRoom-v0"),
+            (EXPERT, "Legent/ComeHere-OneRoom-v0")]
+    kwargs = {"width": SIZE, "height": SIZE}
+    first = evaluate_many(jobs, 2, 0, kwargs)
+    second = evaluate_many(jobs, 2, 0, kwargs)
+    assert first == second
+    assert [r.seed for r in first[0]] == [0, 1]
+    assert all(r.success for r in first[2])  # the expert solves what the others are measured on
+    with pytest.raises(FileNotFoundError, match="neither 'random', 'expert' nor a checkpoint"):
+        evaluate_many([("nope.pt", "Legent/ComeHere-OneRoom-v0")], 1, 0, kwargs)
+    with pytest.raises(ValueError, match="unknown environment id"):
+        evaluate_many([(RANDOM, "Legent/Nope-v0")], 1, 0, kwargs)
+
+
+def test_evaluate_cli(checkpoint, capsys):
+    assert evaluate_main(["--policy", str(checkpoint), "--env", "Legent/WhereIs-OneRoom-v0",
+                          "--episodes", "1", "--seed", "5"]) == 0
+    assert "success" in capsys.readouterr().out
+    assert evaluate_main(["--policy", "missing.pt", "--env", "Legent/ComeHere-OneRoom-v0"]) == 2
+    assert "neither 'random', 'expert' nor a checkpoint" in capsys.readouterr().err
+
+
+def test_train_cli(datasets, tmp_path, capsys):
+    from baselines.vla.train import main as train_main
+
+    args = ["--data", str(datasets["ComeHere-OneRoom"]), "--out", str(tmp_path / "m"), "--trajectories", "2",
+            "--epochs", "1", "--image-size", str(SIZE), "--d-model", "32", "--layers", "1", "--threads", "1",
+            "--quiet"]
+    assert train_main(args) == 0
+    assert json.loads(capsys.readouterr().out.strip().splitlines()[-1])["trajectories"] == 2
+    assert (tmp_path / "m" / FINAL).is_file()
+    assert train_main(["--data", str(tmp_path / "nothing"), "--out", str(tmp_path / "x")]) == 2
+    assert "no interleaved.jsonl" in capsys.readouterr().err
