@@ -73,6 +73,25 @@ class RandomPolicy:
         return flat_action_text(self._rng.uniform(-1.0, 1.0, 4), self.limits)
 
 
+class ExpertBaseline:
+    """The task expert as a :class:`Policy`: the upper bound of every table. It plans from
+    privileged state, so :func:`run_episodes` hands it the env first (``bind``)."""
+
+    def __init__(self):
+        self._expert = None
+
+    def bind(self, env) -> None:
+        from legent_gym.experts import Expert
+
+        self._expert = Expert(env)
+
+    def reset(self, instruction: str) -> None:
+        pass
+
+    def act(self, observation: dict[str, Any]) -> str:
+        return self._expert.action()
+
+
 def _check_counts(episodes: int, seed: int) -> None:
     if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
         raise ValueError(f"episodes must be a positive integer, got {episodes!r}")
@@ -85,7 +104,7 @@ def run_episodes(policy: Policy, env_id: str, episodes: int, seed: int,
     """Run ``episodes`` episodes of ``policy`` on ``gym.make(env_id, **env_kwargs)``.
 
     Episode ``i`` uses reset seed ``seed + i``. The policy's ``seed(seed)`` is called first
-    when it has one. Raises ``TypeError`` if the policy is not a :class:`Policy` or returns
+    when it has one, and ``bind(env)`` once the env exists (for privileged policies). Raises ``TypeError`` if the policy is not a :class:`Policy` or returns
     anything but a ``str``.
     """
     if not isinstance(policy, Policy):
@@ -94,6 +113,8 @@ def run_episodes(policy: Policy, env_id: str, episodes: int, seed: int,
     if callable(getattr(policy, "seed", None)):
         policy.seed(seed)
     env = gym.make(env_id, **(env_kwargs or {}))
+    if callable(getattr(policy, "bind", None)):
+        policy.bind(env)
     results = []
     try:
         for i in range(episodes):

@@ -186,3 +186,19 @@ def test_env_docs_are_generated_from_the_docstring():
                     "Arguments", "Version History"):
         assert f"## {section}" in text
     assert (path.parent / "envs" / "household.md").read_text() == text
+
+
+def test_geodesic_cache_is_bounded_as_the_goal_moves():
+    from legent_gym.tasks.base import FIELD_CACHE_SIZE
+
+    env = gym.make("Legent/ComeHere-TwoRoom-v0", **SMALL)
+    env.reset(seed=0)
+    ctx = env.unwrapped.ctx
+    walkable = np.argwhere(ctx.nav.walkable)[:: max(1, int(ctx.nav.walkable.sum()) // 60)]
+    here = ctx.nav.to_cell(ctx.nav.nearest_walkable(tuple(ctx.agent.position)))
+    for cell in walkable:
+        goal = ctx.nav.to_world(cell)
+        assert ctx.geodesic_to(goal) == ctx.nav.distance_field(goal)[here]
+        assert len(ctx._fields) <= FIELD_CACHE_SIZE
+    assert len(walkable) > FIELD_CACHE_SIZE
+    env.close()

@@ -26,31 +26,15 @@ from dataclasses import asdict
 import gymnasium as gym
 
 import legent_gym  # noqa: F401  (registers the environments)
-from baselines.evaluate import EpisodeResult, RandomPolicy, run_episodes
-from legent_gym.wrappers.expert import ExpertInfo
+from baselines.evaluate import EpisodeResult, ExpertBaseline, RandomPolicy, run_episodes
 
 CHUNK = 10
 RANDOM, EXPERT = "random", "expert"
 
 
 def run_expert(env_id: str, episodes: int, seed: int, env_kwargs: dict | None = None) -> list[EpisodeResult]:
-    """The task expert (``info["expert_action"]``) on the seeds ``run_episodes`` would use."""
-    env = ExpertInfo(gym.make(env_id, **(env_kwargs or {})))
-    results = []
-    try:
-        for i in range(episodes):
-            obs, info = env.reset(seed=seed + i)
-            total, steps, done = 0.0, 0, False
-            while not done:
-                obs, reward, terminated, truncated, info = env.step(info["expert_action"])
-                total += float(reward)
-                steps += 1
-                done = terminated or truncated
-            results.append(EpisodeResult(seed + i, obs["instruction"], bool(info["success"]), steps, total,
-                                         info.get("house_seed"), info.get("distance_to_goal")))
-    finally:
-        env.close()
-    return results
+    """The task expert on the seeds ``run_episodes`` would use."""
+    return run_episodes(ExpertBaseline(), env_id, episodes, seed, env_kwargs)
 
 
 _policies: dict[str, object] = {}

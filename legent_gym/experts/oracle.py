@@ -110,11 +110,6 @@ class Oracle:
     def fovy(self) -> float:
         return self._ctx.agent.options.fovy
 
-    @property
-    def horizontal_fov(self) -> float:
-        aspect = self._env.width / self._env.height
-        return math.degrees(2 * math.atan(math.tan(math.radians(self.fovy) / 2) * aspect))
-
     # -- bodies ----------------------------------------------------------------------------
     @property
     def pose(self) -> Pose:
@@ -185,9 +180,6 @@ class Oracle:
     def home_of(self, object_id: int) -> int | None:
         """The receptacle the object stood on when the house was made (None: the floor)."""
         return self._ctx.scene.object(object_id).on
-
-    def is_interactable(self, object_id: int) -> bool:
-        return self._ctx.scene.object(object_id).kind == "interactable"
 
     def is_visible(self, object_id: int) -> bool:
         """The object is in the agent's current view, unoccluded (the tasks' own test)."""
@@ -276,10 +268,6 @@ class Oracle:
         """Whether standing at ``xy`` serves ``purpose`` for the object."""
         points = self._put_spots(object_id) if purpose == "put" else None
         return feasibility.stand_ok(self._ctx, xy, object_id, purpose, self.held, self.pitch_range, points)
-
-    def _footprint(self, object_id: int) -> np.ndarray:
-        """The object's footprint where it is now (it may have been moved)."""
-        return self._ctx.footprint(object_id)
 
     def reach_distance(self, xy: Sequence[float], object_id: int) -> float:
         """Horizontal metres from ``xy`` to the object's footprint (GoTo's "within reach")."""

@@ -19,6 +19,9 @@ from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS, World
 from legent_gym.world.navigation import NavGrid
 from legent_gym.world.scene import Scene
 
+#: Distance fields a TaskContext keeps (least recently used dropped first).
+FIELD_CACHE_SIZE = 16
+
 
 @dataclass
 class TaskContext:
@@ -38,10 +41,15 @@ class TaskContext:
 
     def geodesic_to(self, point) -> float:
         """Geodesic metres from the agent to a floor point (inf if unreachable)."""
-        key = (round(float(point[0]), 2), round(float(point[1]), 2))
-        grid = self._fields.get(key)
+        # Keyed by grid cell (every point of a cell snaps to the same goal), and bounded: a
+        # goal that moves (the user walking, in the multi-agent env) adds a field per cell.
+        key = self.nav.to_cell(point)
+        grid = self._fields.pop(key, None)
         if grid is None:
-            grid = self._fields[key] = self.nav.distance_field(key)
+            grid = self.nav.distance_field(point)
+            if len(self._fields) >= FIELD_CACHE_SIZE:
+                del self._fields[next(iter(self._fields))]
+        self._fields[key] = grid  # most recently used last
         here = self.nav.nearest_walkable(tuple(self.agent.position))
         if here is None:
             return math.inf
@@ -121,9 +129,6 @@ class TaskContext:
         exclude = self.world.object_body[held] if held is not None and held != object_id else -1
         hit = mujoco.mj_ray(self.world.model, self.world.data, eye, to / dist, groups, 1, exclude, geomid)
         return hit >= 0 and int(self.world.geom_object[geomid[0]]) == object_id
-
-    def reachable_from_agent(self, object_id: int, reach: float) -> bool:
-        return self.nav.standing_point(object_id, reach=reach * 0.8, start=tuple(self.agent.position)) is not None
 
 
 @dataclass
