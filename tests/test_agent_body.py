@@ -144,3 +144,97 @@ def test_the_head_camera_follows_the_body():
     assert np.abs(first["rgb"].astype(int) - turned["rgb"]).mean() > 1.0
     assert np.abs(turned["rgb"].astype(int) - tilted["rgb"]).mean() > 1.0
     env.close()
+
+
+def _facing(agent, target_xy, start_xy):
+    d = np.asarray(target_xy) - np.asarray(start_xy)
+    agent.place(start_xy[0], start_xy[1], math.degrees(math.atan2(d[1], d[0])))
+
+
+@pytest.mark.parametrize("asset", ["sofa", "coffee_table", "bed", "dining_table", "desk"])
+def test_low_and_raised_furniture_blocks_the_whole_body(asset):
+    """A sofa's seat, a table's top and a bed's frame stop the body at their edge, at
+    whatever height of its band they are (not only where a ray would pass)."""
+    from legent_gym.world.generation import generate_house
+
+    for seed in range(40):
+        scene = generate_house(seed, "TwoRoom")
+        found = [o for o in scene.objects if o.asset == asset]
+        if found:
+            break
+    else:
+        pytest.skip(f"no {asset} in the first 40 houses")
+    world = build_world(scene)
+    agent = Body(world, "agent")
+    obj = found[0]
+    corners = world_footprint(scene, obj)
+    centre = corners.mean(axis=0)
+    # Walk at the piece from every side where there is floor: never closer than a body radius.
+    walked = 0
+    for angle in range(0, 360, 20):
+        a = math.radians(angle)
+        start = centre + 2.0 * np.array([math.cos(a), math.sin(a)])
+        agent.place(*start, 0.0)
+        if agent.free_distance(angle + 180, 0.01) < 0.01:
+            continue  # starts against something else
+        _facing(agent, centre, start)
+        agent.move_forward(2.0)
+        walked += 1
+        gap = _distance_to_polygon(agent.position, corners)
+        assert gap >= agent.options.radius - 0.02, (asset, angle, gap)
+    assert walked > 0
+
+
+def world_footprint(scene, obj):
+    from legent_gym.world.navigation import object_footprint
+
+    return object_footprint(scene, obj)
+
+
+def _distance_to_polygon(point, corners) -> float:
+    """Distance from a point to a convex polygon (0 inside)."""
+    p = np.asarray(point, dtype=float)
+    if _point_in(corners, p):
+        return 0.0
+    best = math.inf
+    for a, b in zip(corners, np.roll(corners, -1, axis=0)):
+        ab = b - a
+        t = float(np.clip((p - a) @ ab / (ab @ ab), 0.0, 1.0))
+        best = min(best, float(np.linalg.norm(p - (a + t * ab))))
+    return best
+
+
+def test_the_body_cannot_leave_the_house_through_an_outside_door():
+    from legent_gym.world.generation import generate_house
+
+    for seed in range(60):
+        scene = generate_house(seed, "TwoRoom")
+        outside = [d for d in scene.doors if "exterior" in d.connects and d.openness > 0.5]
+        if outside:
+            break
+    else:
+        pytest.skip("no open outside door in the first 60 houses")
+    door = outside[0]
+    wall = scene.wall(door.wall)
+    world = build_world(scene)
+    agent = Body(world, "agent")
+    (x0, y0), (x1, y1) = wall.start, wall.end
+    ux, uy = (x1 - x0) / wall.length, (y1 - y0) / wall.length
+    mid = np.array([x0 + ux * door.offset, y0 + uy * door.offset])
+    for side in (1.0, -1.0):  # one side is the room: start 1 m inside, walk out through the middle
+        start = mid + side * np.array([-uy, ux])
+        inside = any(_point_in(room.polygon, start) for room in scene.rooms)
+        if not inside:
+            continue
+        _facing(agent, mid - side * np.array([-uy, ux]), start)
+        out = agent.move_forward(3.0)
+        assert "blocked" in out.reason
+        assert any(_point_in(room.polygon, agent.position) for room in scene.rooms)
+        return
+    pytest.fail("neither side of the door is in a room")
+
+
+def _point_in(polygon, xy) -> bool:
+    from legent_gym.world.builder import _point_in_polygon
+
+    return _point_in_polygon(tuple(xy), [tuple(v) for v in np.asarray(polygon, dtype=float)])

@@ -16,7 +16,7 @@ import trimesh
 from scipy import ndimage
 
 from legent_gym.agent.actions import ActionParseError, _parse_simple, _Parser, parse_actions
-from legent_gym.agent.body import _COLLISION_GROUPS, Body, _circle_hit
+from legent_gym.agent.body import SKIN, Body, _circle_hit
 from legent_gym.world.assets.model import AssetModel, Link, box_part, sphere_part
 from legent_gym.world.builder import build_world
 from legent_gym.world.generation import generate_house
@@ -174,31 +174,31 @@ def test_simple_action_parsing_matches_the_full_parser():
     assert simple > 200  # the fast path was exercised
 
 
-def _all_rays(body: Body, direction_deg: float, distance: float) -> float:
-    """free_distance as it was: all fifteen rays cast."""
+def _swept_everything(body: Body, direction_deg: float, distance: float) -> float:
+    """free_distance without the clearance map's shortcut: every box swept."""
     if distance <= 0:
         return 0.0
     yaw = math.radians(direction_deg)
     fx, fy = math.cos(yaw), math.sin(yaw)
-    forward = np.array([fx, fy, 0.0])
     exclude = body.world.object_body[body.state.held] if body.state.held is not None else -1
-    geomid, start, best = np.zeros(1, dtype=np.int32), np.zeros(3), distance
-    for lateral, front in body._lateral_offsets:
-        start[0], start[1] = body.state.x - fy * lateral, body.state.y + fx * lateral
-        for height in body._ray_heights:
-            start[2] = height
-            hit = mujoco.mj_ray(body.world.model, body.world.data, start, forward, _COLLISION_GROUPS, 1, exclude,
-                                geomid)
-            if 0 <= hit < best + front + 0.02:
-                best = hit - front - 0.02
+    clearance = body._clearance()
+    r = body.options.radius
+    best = min(distance, clearance.sweep(clearance.boxes(exclude), body.state.x, body.state.y, fx, fy,
+                                         distance + SKIN, r) - SKIN)
     other = body._other_position()
     if other is not None:
-        best = min(best, _circle_hit(body.position, forward[:2], other, body.options.radius + body._other_radius(),
-                                     distance))
+        best = min(best, _circle_hit(body.position, np.array([fx, fy]), other, r + body._other_radius(), distance))
     return max(0.0, best)
 
 
-def test_moves_cast_only_needed_rays_with_the_same_result():
+def _box_distance(boxes, x: float, y: float) -> np.ndarray:
+    """Distance from (x, y) to every oriented box (0 inside)."""
+    cx, cy, cos, sin, hx, hy, _ = boxes
+    px, py = cos * (x - cx) + sin * (y - cy), cos * (y - cy) - sin * (x - cx)
+    return np.hypot(np.maximum(np.abs(px) - hx, 0.0), np.maximum(np.abs(py) - hy, 0.0))
+
+
+def test_moves_sweep_only_when_needed_with_the_same_result():
     rng = np.random.default_rng(6)
     for seed, layout in ((0, "TwoRoom"), (1, "FourRoom")):
         scene = generate_house(seed, layout)
@@ -212,11 +212,42 @@ def test_moves_cast_only_needed_rays_with_the_same_result():
                     world.data.qpos[world.model.jnt_qposadr[door]] *= 0.3
                 for _ in range(30):
                     mujoco.mj_step(world.model, world.data)
-            if k == 400 and world.free_objects:  # holding an object (its rays are excluded)
+            if k == 400 and world.free_objects:  # holding an object (it is left out)
                 agent.state.held = world.free_objects[0]
             agent.place(rng.uniform(x0 - 0.3, x1 + 0.3), rng.uniform(y0 - 0.3, y1 + 0.3), rng.uniform(0, 360))
             distance = float(rng.choice([rng.uniform(0, 2), 2.0, rng.uniform(0, 0.05)]))
-            assert agent.free_distance(agent.state.yaw, distance) == _all_rays(agent, agent.state.yaw, distance)
+            assert agent.free_distance(agent.state.yaw, distance) == _swept_everything(agent, agent.state.yaw,
+                                                                                      distance)
+
+
+def test_sweep_finds_the_first_contact_a_fine_march_finds():
+    """The exact sweep against a march in 1 mm steps, from free starts in a furnished house."""
+    scene = generate_house(3, "TwoRoom")
+    world = build_world(scene)
+    agent = Body(world, "agent")
+    clearance = agent._clearance()
+    boxes = clearance.boxes(-1)
+    r = agent.options.radius
+    rng = np.random.default_rng(2)
+    (x0, y0), (x1, y1) = scene.bounds()
+    checked = touched = 0
+    while checked < 300:
+        x, y = rng.uniform(x0, x1), rng.uniform(y0, y1)
+        if _box_distance(boxes, x, y).min() <= r + 1e-3:
+            continue  # starts touching something: the march has no first contact to find
+        yaw = rng.uniform(0, 2 * math.pi)
+        fx, fy = math.cos(yaw), math.sin(yaw)
+        length = 3.0
+        contact = clearance.sweep(boxes, x, y, fx, fy, length, r)
+        steps = np.arange(0.0, length + 1e-9, 0.001)
+        first = next((t for t in steps if _box_distance(boxes, x + fx * t, y + fy * t).min() <= r), math.inf)
+        if math.isinf(first):
+            assert math.isinf(contact) or contact > length - 0.001
+        else:
+            touched += 1
+            assert first - 0.001 <= contact <= first + 1e-9
+        checked += 1
+    assert touched > 100
 
 
 def test_batched_moves_leave_the_world_as_unbatched_moves_do():

@@ -29,7 +29,8 @@ DEFAULT_REACH = 1.5
 PITCH_RANGE = (-60.0, 60.0)  # degrees; + looks down
 SETTLE_SECONDS = 1.0
 HAND_FORWARD, HAND_HEIGHT = 0.35, 1.0
-_COLLISION_GROUPS = np.array([0, 0, 0, 1, 0, 0], dtype=np.uint8)  # rays see collision geoms only
+#: A move stops this far short of what it would touch (metres).
+SKIN = 0.02
 
 
 @dataclass
@@ -79,11 +80,8 @@ class Body:
         spawn = world.scene.agent if name == "agent" else (world.scene.user or world.scene.agent)
         self.state = BodyState(spawn.position[0], spawn.position[1], spawn.yaw)
         self._other = other
-        r = self.options.radius
-        self._lateral_offsets = [(lat, math.sqrt(max(r * r - lat * lat, 0.0))) for lat in (-r, -r / 2, 0.0, r / 2, r)]
-        self._ray_heights = (0.06, 0.5, min(1.2, self.options.height - 0.05))
-        self._ray_start = np.zeros(3)
-        self._geomid = np.zeros(1, dtype=np.int32)
+        #: The height band the body collides in: from above the floor to chest height.
+        self.collision_band = (0.06, min(1.2, self.options.height - 0.05))
         self._batch_depth = 0
         self._unsynced = False
         self._clearance_map: ClearanceMap | None = None
@@ -146,52 +144,32 @@ class Body:
     def free_distance(self, direction_deg: float, distance: float) -> float:
         """How far the body can go along a heading before touching anything (<= distance).
 
-        Rays at three heights and five lateral offsets across the body's width sweep the
-        corridor it would pass through; each starts a little behind the body's front, so
-        that an obstacle already touching its side is seen.
+        The body is a disc of its radius swept over the floor; it stops ``SKIN`` short of the
+        first collision geom reaching into its height band (see
+        :mod:`legent_gym.agent.clearance`) or of the other avatar.
         """
         if distance <= 0:
             return 0.0
         yaw = math.radians(direction_deg)
         fx, fy = math.cos(yaw), math.sin(yaw)
-        forward = np.array([fx, fy, 0.0])
         r = self.options.radius
-        model, data = self.world.model, self.world.data
         exclude = self.world.object_body[self.state.held] if self.state.held is not None else -1
-        geomid = self._geomid
-        start = self._ray_start
-        best = distance
-        # Rays that certainly hit nothing within the length that matters are not cast (the
-        # clearance map proves it): the result is exactly that of casting all of them.
         clearance = self._clearance_map or self._clearance()
-        dist_map = clearance.distances(exclude)
         x, y = self.state.x, self.state.y
-        if clearance.segment_clear(dist_map, x, y, fx, fy, distance + r + 0.02, r):
-            offsets = ()
-        else:
-            offsets = self._lateral_offsets
-        segment_clear = clearance.segment_clear
-        for lateral, front in offsets:
-            sx, sy = x - fy * lateral, y + fx * lateral
-            # Only a hit nearer than best + front + 0.02 counts, and best only shrinks.
-            if segment_clear(dist_map, sx, sy, fx, fy, best + front + 0.02 + 1e-9, 0.0):
-                continue
-            start[0], start[1] = sx, sy
-            for height in self._ray_heights:
-                start[2] = height
-                dist = mujoco.mj_ray(model, data, start, forward, _COLLISION_GROUPS, 1, exclude, geomid)
-                if 0 <= dist < best + front + 0.02:
-                    best = dist - front - 0.02
+        best = distance
+        if not clearance.segment_clear(clearance.distances(exclude), x, y, fx, fy, distance + r + SKIN, r):
+            best = min(best, clearance.sweep(clearance.boxes(exclude), x, y, fx, fy, distance + SKIN, r) - SKIN)
         other = self._other_position()
         if other is not None:
-            best = min(best, _circle_hit(self.position, forward[:2], other, r + self._other_radius(), distance))
+            best = min(best, _circle_hit(self.position, np.array([fx, fy]), other, r + self._other_radius(),
+                                         distance))
         return max(0.0, best)
 
     def _clearance(self) -> ClearanceMap:
-        """The world's clearance map for this body's ray heights (made on first use, shared
+        """The world's clearance map for this body's height band (made on first use, shared
         by the bodies in the world)."""
         if self._clearance_map is None:
-            z_range = (min(self._ray_heights), max(self._ray_heights))
+            z_range = self.collision_band
             key = ("clearance", z_range)
             found = self.world.derived.get(key)
             if found is None:

@@ -1,15 +1,20 @@
-"""Which of a move's collision rays can hit anything: a clearance map of the world's
-collision geometry, so that :meth:`Body.free_distance` casts only the rays that might.
+"""How far an avatar can walk: its body against the world's collision geometry.
 
-A ray cast (``mj_ray``) tests every geom of the model, and a move casts fifteen of them.
-Most moves cross open floor. This map rasterises the horizontal bounding box of every
-collision geom that reaches the rays' heights (a hit point always lies inside its geom's
-box) and keeps each cell's distance to the nearest occupied cell. A ray whose whole segment
-stays clear of every box by that bound cannot hit anything within the length that matters,
-so skipping it changes nothing: the result is exactly that of casting all fifteen.
+An avatar is a vertical disc of radius ``r`` swept across the floor. It collides with the
+horizontal box of every collision geom that reaches into its height band (``z_range``): the
+geom's own bounding box, turned with it when it turns about the vertical only (walls,
+furniture, open door leaves), else its world-axis box. So a sofa's seat, a coffee table's
+top and a bed frame block at every height of the band, not only where a few rays would
+pass (the model this replaced: fifteen ``mj_ray`` casts at three heights, which walked
+through the seat of a sofa and under a table top).
 
-Geoms of bodies welded to the world (walls, furniture) are rasterised once; geoms that can
-move (small objects, door leaves, drawers) are re-rasterised when their poses change.
+:meth:`ClearanceMap.sweep` finds the first contact exactly (a ray against each box grown
+by ``r`` with rounded corners). Most moves cross open floor, so a raster of the same boxes
+keeps each cell's distance to the nearest occupied cell, and :meth:`segment_clear` proves
+with a few look-ups that a move touches nothing; only the others are swept.
+
+Geoms of bodies welded to the world (walls, furniture) are taken once; geoms that can move
+(small objects, door leaves, drawers) again when their poses change.
 """
 
 from __future__ import annotations
@@ -51,13 +56,14 @@ class ClearanceMap:
         self.origin = (x0 - margin, y0 - margin)
         self.shape = (int(math.ceil((y1 - y0 + 2 * margin) / RESOLUTION)),
                       int(math.ceil((x1 - x0 + 2 * margin) / RESOLUTION)))
+        self._static_boxes = self._oriented_boxes(self._static_geoms)
         self._static = np.zeros(self.shape, dtype=bool)
         # The border counts as occupied: a box (partly) outside the map is never missed.
         self._static[[0, -1], :] = True
         self._static[:, [0, -1]] = True
         self._rasterise(self._static, self._static_geoms)
-        #: excluded body -> (poses of the moving geoms it was made for, distance map)
-        self._maps: dict[int, tuple[bytes, np.ndarray]] = {}
+        #: excluded body -> (poses of the moving geoms it was made for, distance map, boxes)
+        self._maps: dict[int, tuple[bytes, np.ndarray, tuple[np.ndarray, ...]]] = {}
 
     # -- building -----------------------------------------------------------------------
     def _boxes(self, geoms: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -67,6 +73,26 @@ class ClearanceMap:
         centre = data.geom_xpos[geoms] + np.einsum("nij,nj->ni", rot, model.geom_aabb[geoms, :3])
         half = np.einsum("nij,nj->ni", np.abs(rot), model.geom_aabb[geoms, 3:]) + BOX_MARGIN
         return centre - half, centre + half
+
+    def _oriented_boxes(self, geoms: np.ndarray) -> np.ndarray:
+        """(n, 7) rows ``cx, cy, cos, sin, half_x, half_y, bounding radius``: the horizontal
+        box of every geom reaching into the height band, turned with the geom if it turns
+        about z only, else its world-axis box."""
+        model, data = self.world.model, self.world.data
+        if len(geoms) == 0:
+            return np.zeros((0, 7))
+        rot = data.geom_xmat[geoms].reshape(-1, 3, 3)
+        half = model.geom_aabb[geoms, 3:]
+        centre = data.geom_xpos[geoms] + np.einsum("nij,nj->ni", rot, model.geom_aabb[geoms, :3])
+        world_half = np.einsum("nij,nj->ni", np.abs(rot), half)
+        z0, z1 = self.z_range
+        keep = (centre[:, 2] + world_half[:, 2] >= z0) & (centre[:, 2] - world_half[:, 2] <= z1)
+        upright = np.abs(rot[:, 2, 2]) > 1.0 - 1e-6
+        cos = np.where(upright, rot[:, 0, 0], 1.0)
+        sin = np.where(upright, rot[:, 1, 0], 0.0)
+        hx = np.where(upright, half[:, 0], world_half[:, 0])
+        hy = np.where(upright, half[:, 1], world_half[:, 1])
+        return np.stack([centre[:, 0], centre[:, 1], cos, sin, hx, hy, np.hypot(hx, hy)], axis=1)[keep]
 
     def _rasterise(self, occupied: np.ndarray, geoms: np.ndarray) -> None:
         """Mark every cell that a geom's box overlaps (at the rays' heights)."""
@@ -86,8 +112,15 @@ class ClearanceMap:
                 occupied[r0:r1 + 1, c0:c1 + 1] = True
 
     def distances(self, exclude_body: int) -> np.ndarray:
-        """Distance (cells) from each cell centre to the nearest occupied cell centre, for
-        rays that ignore ``exclude_body`` (-1: none); rebuilt when moving geoms moved."""
+        """Distance (cells) from each cell centre to the nearest occupied cell centre,
+        ignoring ``exclude_body`` (-1: none); rebuilt when moving geoms moved."""
+        return self._state(exclude_body)[1]
+
+    def boxes(self, exclude_body: int) -> tuple[np.ndarray, ...]:
+        """The oriented boxes (columns of :meth:`_oriented_boxes`), ignoring ``exclude_body``."""
+        return self._state(exclude_body)[2]
+
+    def _state(self, exclude_body: int) -> tuple[bytes, np.ndarray, tuple[np.ndarray, ...]]:
         model, data = self.world.model, self.world.data
         lo, hi = self._span
         # The excluded body (a held object) moves with whoever holds it: leave it out.
@@ -97,7 +130,7 @@ class ClearanceMap:
                  + data.xquat[lo:cut].tobytes() + data.xquat[end:hi].tobytes())
         hit = self._maps.get(exclude_body)
         if hit is not None and hit[0] == poses:
-            return hit[1]
+            return hit
         moving = self._moving_geoms
         if exclude_body >= 0:
             moving = moving[model.geom_bodyid[moving] != exclude_body]
@@ -106,10 +139,12 @@ class ClearanceMap:
         import cv2  # a core dependency, imported when first needed
 
         dist = cv2.distanceTransform((~occupied).view(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+        boxes = np.concatenate([self._static_boxes, self._oriented_boxes(moving)])
+        state = (poses, dist, tuple(np.ascontiguousarray(column) for column in boxes.T))
         if len(self._maps) >= 4:  # the agent's and the user's (each holding or not)
             self._maps.clear()
-        self._maps[exclude_body] = (poses, dist)
-        return dist
+        self._maps[exclude_body] = state
+        return state
 
     # -- queries ------------------------------------------------------------------------
     def segment_clear(self, dist: np.ndarray, x: float, y: float, fx: float, fy: float, length: float,
@@ -138,3 +173,68 @@ class ClearanceMap:
             if step < 0.5 * RESOLUTION:  # creeping past an obstacle: let the rays decide
                 return False
             along += step
+
+    @staticmethod
+    def sweep(boxes: tuple[np.ndarray, ...], x: float, y: float, fx: float, fy: float, length: float,
+              radius: float) -> float:
+        """How far a disc of ``radius`` at (x, y) moves along the unit direction (fx, fy)
+        before it touches a box (``inf`` if not within ``length``).
+
+        A box the disc already overlaps blocks only a move that goes deeper into it (so an
+        avatar pushed against something can always back away).
+        """
+        cx, cy, cos, sin, hx, hy, bound = boxes
+        # Boxes whose bounding circle comes within reach of the swept strip, then each exactly.
+        rx, ry = cx - x, cy - y
+        along = rx * fx + ry * fy
+        reach = bound + radius
+        near = np.nonzero((np.abs(rx * fy - ry * fx) <= reach) & (along >= -reach) & (along <= length + reach))[0]
+        best = math.inf
+        for i in near.tolist():
+            c, s = float(cos[i]), float(sin[i])
+            ox, oy = x - float(cx[i]), y - float(cy[i])
+            px, py = c * ox + s * oy, c * oy - s * ox  # the start in the box's frame
+            dx, dy = c * fx + s * fy, c * fy - s * fx  # the direction in the box's frame
+            bx, by = float(hx[i]), float(hy[i])
+            enter_x, leave_x = _slab(px, dx, bx + radius)
+            enter_y, leave_y = _slab(py, dy, by + radius)
+            enter, leave = max(enter_x, enter_y), min(leave_x, leave_y)
+            if enter > leave or leave < 0.0 or enter > length:
+                continue  # the centre never enters the box grown by the radius
+            contact = _contact(px, py, dx, dy, bx, by, radius, enter)
+            if contact < best:
+                best = contact
+        return best if best <= length else math.inf
+
+
+def _slab(p: float, d: float, half: float) -> tuple[float, float]:
+    """The interval of t where |p + t d| <= half."""
+    if d == 0.0:
+        return (-math.inf, math.inf) if abs(p) <= half else (math.inf, -math.inf)
+    t1, t2 = (-half - p) / d, (half - p) / d
+    return (t1, t2) if t1 <= t2 else (t2, t1)
+
+
+def _contact(px: float, py: float, dx: float, dy: float, hx: float, hy: float, radius: float,
+             enter: float) -> float:
+    """First ``t >= 0`` at which the disc at (px, py) + t (dx, dy) touches the box
+    [-hx, hx] x [-hy, hy] (box frame), given when its centre enters the grown box; inf if
+    never or if it already overlaps the box and does not go deeper."""
+    if enter >= 0.0:
+        qx, qy = px + enter * dx, py + enter * dy
+        if abs(qx) <= hx or abs(qy) <= hy:
+            return enter  # enters through a side: the disc touches a face there
+        corner_x, corner_y = math.copysign(hx, qx), math.copysign(hy, qy)
+    else:
+        gx, gy = px - min(max(px, -hx), hx), py - min(max(py, -hy), hy)
+        if gx * gx + gy * gy <= radius * radius:  # already touching
+            return 0.0 if gx * dx + gy * dy < 0.0 else math.inf
+        corner_x, corner_y = math.copysign(hx, px), math.copysign(hy, py)
+    # Through a corner square of the grown box: it touches only if it meets the corner's circle.
+    wx, wy = px - corner_x, py - corner_y
+    b = wx * dx + wy * dy
+    disc = b * b - (wx * wx + wy * wy - radius * radius)
+    if disc < 0.0:
+        return math.inf
+    t = -b - math.sqrt(disc)
+    return t if t >= 0.0 else math.inf

@@ -321,6 +321,9 @@ class _SpecBuilder:
                 v, f, colours = wall_piece_box(wall.start, wall.end, wall.thickness, piece, left, right)
                 walls.add(v, f, colours)
                 self._wall_collision(wall, piece)
+            for door in scene.doors:
+                if door.wall == wall.id and _leads_outside(wall, door):
+                    self._doorway_barrier(wall, door)
         if self.options.naive:
             # The reference build: a plane floor (drawn as a grid of many quads) and plain geoms.
             (lo_x, lo_y), (hi_x, hi_y) = scene.bounds()
@@ -369,6 +372,21 @@ class _SpecBuilder:
             type=mujoco.mjtGeom.mjGEOM_BOX, group=GROUP_COLLISION,
             size=[(piece.b - piece.a) / 2, wall.thickness / 2, (piece.z1 - piece.z0) / 2],
             pos=[x0 + ux * mid, y0 + uy * mid, (piece.z0 + piece.z1) / 2],
+            quat=yaw_quat(math.degrees(math.atan2(uy, ux))).tolist(),
+        )
+
+    def _doorway_barrier(self, wall, door) -> None:
+        """An invisible slab across a door to the outside, seen by the avatars' collision
+        only (no contacts, no rendering): the house has no floor beyond it, so walking out
+        would leave the agent where nothing can be done (the door itself still opens)."""
+        (x0, y0), (x1, y1) = wall.start, wall.end
+        length = max(wall.length, 1e-9)
+        ux, uy = (x1 - x0) / length, (y1 - y0) / length
+        self.spec.worldbody.add_geom(
+            type=mujoco.mjtGeom.mjGEOM_BOX, group=GROUP_COLLISION, contype=0, conaffinity=0,
+            name=f"doorway_barrier_{door.id}",
+            size=[door.width / 2, wall.thickness / 2, door.height / 2],
+            pos=[x0 + ux * door.offset, y0 + uy * door.offset, door.height / 2],
             quat=yaw_quat(math.degrees(math.atan2(uy, ux))).tolist(),
         )
 
@@ -476,6 +494,11 @@ class _SpecBuilder:
     def _finish_palette(self) -> None:
         if not self.options.naive:
             self._palette_texture.data = styled_palette(self.palette.image(), self._style).tobytes()
+
+
+def _leads_outside(wall, door) -> bool:
+    """Whether the door opens onto the outside (its wall, or the door, names "exterior")."""
+    return "exterior" in wall.rooms or "exterior" in door.connects
 
 
 # Avatars and door leaves are the same few shapes in every house: one Link object per shape,
