@@ -157,8 +157,9 @@ class Body:
         clearance = self._clearance_map or self._clearance()
         x, y = self.state.x, self.state.y
         best = distance
-        if not clearance.segment_clear(clearance.distances(exclude), x, y, fx, fy, distance + r + SKIN, r):
-            best = min(best, clearance.sweep(clearance.boxes(exclude), x, y, fx, fy, distance + SKIN, r) - SKIN)
+        dist_map, boxes = clearance.snapshot(exclude)
+        if not clearance.segment_clear(dist_map, x, y, fx, fy, distance + r + SKIN, r):
+            best = min(best, clearance.sweep(boxes, x, y, fx, fy, distance + SKIN, r) - SKIN)
         other = self._other_position()
         if other is not None:
             best = min(best, _circle_hit(self.position, np.array([fx, fy]), other, r + self._other_radius(),

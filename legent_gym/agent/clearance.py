@@ -120,6 +120,11 @@ class ClearanceMap:
         """The oriented boxes (columns of :meth:`_oriented_boxes`), ignoring ``exclude_body``."""
         return self._state(exclude_body)[2]
 
+    def snapshot(self, exclude_body: int) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+        """(:meth:`distances`, :meth:`boxes`) in one look at the moving geoms."""
+        state = self._state(exclude_body)
+        return state[1], state[2]
+
     def _state(self, exclude_body: int) -> tuple[bytes, np.ndarray, tuple[np.ndarray, ...]]:
         model, data = self.world.model, self.world.data
         lo, hi = self._span

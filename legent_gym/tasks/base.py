@@ -43,17 +43,19 @@ class TaskContext:
         """Geodesic metres from the agent to a floor point (inf if unreachable)."""
         # Keyed by grid cell (every point of a cell snaps to the same goal), and bounded: a
         # goal that moves (the user walking, in the multi-agent env) adds a field per cell.
-        key = self.nav.to_cell(point)
-        grid = self._fields.pop(key, None)
+        nav = self.nav
+        key = nav.to_cell(point)
+        fields = self._fields
+        grid = fields.get(key)
         if grid is None:
-            grid = self.nav.distance_field(point)
-            if len(self._fields) >= FIELD_CACHE_SIZE:
-                del self._fields[next(iter(self._fields))]
-        self._fields[key] = grid  # most recently used last
-        here = self.nav.nearest_walkable(tuple(self.agent.position))
-        if here is None:
-            return math.inf
-        return float(grid[self.nav.to_cell(here)])
+            grid = nav.distance_field(point)
+            if len(fields) >= FIELD_CACHE_SIZE:
+                del fields[next(iter(fields))]
+            fields[key] = grid
+        elif next(reversed(fields)) != key:
+            fields[key] = fields.pop(key)  # most recently used last
+        here = nav.nearest_walkable_cell((self.agent.state.x, self.agent.state.y))
+        return math.inf if here is None else float(grid[here])
 
     def distance_to_object(self, object_id: int) -> float:
         """Geodesic metres from the agent to where it could reach the object."""

@@ -404,6 +404,10 @@ class NavGrid:
             _, self._nearest = ndimage.distance_transform_edt(~self.walkable, return_indices=True)
         return self._nearest
 
+    def nearest_walkable_cell(self, xy: Sequence[float]) -> tuple[int, int] | None:
+        """The cell of :meth:`nearest_walkable` (None when nothing is walkable)."""
+        return self._snap(xy)
+
     def nearest_walkable(self, xy: Sequence[float]) -> XY | None:
         """``xy`` itself when walkable, else the centre of the nearest walkable cell."""
         if self.is_walkable(xy):
