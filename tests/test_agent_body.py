@@ -9,6 +9,7 @@ import pytest
 
 from legent_gym.agent.body import Body
 from legent_gym.world.builder import build_world
+from legent_gym.world.navigation import object_footprint
 from legent_gym.world.scene import load_scene
 
 
@@ -167,7 +168,7 @@ def test_low_and_raised_furniture_blocks_the_whole_body(asset):
     world = build_world(scene)
     agent = Body(world, "agent")
     obj = found[0]
-    corners = world_footprint(scene, obj)
+    corners = object_footprint(scene, obj)
     centre = corners.mean(axis=0)
     # Walk at the piece from every side where there is floor: never closer than a body radius.
     walked = 0
@@ -183,12 +184,6 @@ def test_low_and_raised_furniture_blocks_the_whole_body(asset):
         gap = _distance_to_polygon(agent.position, corners)
         assert gap >= agent.options.radius - 0.02, (asset, angle, gap)
     assert walked > 0
-
-
-def world_footprint(scene, obj):
-    from legent_gym.world.navigation import object_footprint
-
-    return object_footprint(scene, obj)
 
 
 def _distance_to_polygon(point, corners) -> float:

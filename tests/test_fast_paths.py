@@ -183,7 +183,7 @@ def _swept_everything(body: Body, direction_deg: float, distance: float) -> floa
     exclude = body.world.object_body[body.state.held] if body.state.held is not None else -1
     clearance = body._clearance()
     r = body.options.radius
-    best = min(distance, clearance.sweep(clearance.boxes(exclude), body.state.x, body.state.y, fx, fy,
+    best = min(distance, clearance.sweep(clearance.snapshot(exclude)[1], body.state.x, body.state.y, fx, fy,
                                          distance + SKIN, r) - SKIN)
     other = body._other_position()
     if other is not None:
@@ -226,7 +226,7 @@ def test_sweep_finds_the_first_contact_a_fine_march_finds():
     world = build_world(scene)
     agent = Body(world, "agent")
     clearance = agent._clearance()
-    boxes = clearance.boxes(-1)
+    boxes = clearance.snapshot(-1)[1]
     r = agent.options.radius
     rng = np.random.default_rng(2)
     (x0, y0), (x1, y1) = scene.bounds()

@@ -1,9 +1,10 @@
 """The embodied agent (and the user): a kinematic, person-sized body in a built world.
 
 The body moves kinematically (the paper's actions are teleport-like: move forward N
-metres, turn N degrees) but never through things: a move is a sweep of rays against the
-world's collision geometry (walls, furniture, closed doors, objects on the floor, the other
-avatar) that stops at the first obstacle and reports the distance actually moved.
+metres, turn N degrees) but never through things: a move sweeps the body's disc against the
+world's collision geometry in its height band (walls, furniture, closed doors, objects on
+the floor, the other avatar; see :mod:`legent_gym.agent.clearance`), stops at the first
+obstacle and reports the distance actually moved.
 
 Interaction goes through the camera's image centre, as in LEGENT: a ray from the head
 camera along the view axis picks what the agent looks at. Every interaction returns an

@@ -27,7 +27,7 @@ from legent_gym.world.builder import GROUP_COLLISION, World
 
 #: Cell size of the map, metres.
 RESOLUTION = 0.05
-#: Added around every box: mj_ray's hit points lie on the geom up to rounding.
+#: Added around every rasterised box: a contact on a box's face must not fall between cells.
 BOX_MARGIN = 1e-6
 #: A cell's distance to the nearest occupied cell bounds the distance from any point in it
 #: to any box from below, less one cell diagonal (both points may be anywhere in their
@@ -36,7 +36,7 @@ _CELL_SLACK = math.sqrt(2.0) + 1e-3
 
 
 class ClearanceMap:
-    """Distance from each cell to the collision geometry at the rays' heights (``z_range``)."""
+    """The collision boxes in a height band (``z_range``), and each cell's distance to them."""
 
     def __init__(self, world: World, z_range: tuple[float, float]):
         model = world.model
@@ -66,25 +66,28 @@ class ClearanceMap:
         self._maps: dict[int, tuple[bytes, np.ndarray, tuple[np.ndarray, ...]]] = {}
 
     # -- building -----------------------------------------------------------------------
-    def _boxes(self, geoms: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """World axis-aligned boxes (lo, hi) of geoms, from their local bounding boxes."""
+    def _frames(self, geoms: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(rotations, box centres, local half sizes, world-axis half sizes) of geoms'
+        bounding boxes."""
         model, data = self.world.model, self.world.data
         rot = data.geom_xmat[geoms].reshape(-1, 3, 3)
+        half = model.geom_aabb[geoms, 3:]
         centre = data.geom_xpos[geoms] + np.einsum("nij,nj->ni", rot, model.geom_aabb[geoms, :3])
-        half = np.einsum("nij,nj->ni", np.abs(rot), model.geom_aabb[geoms, 3:]) + BOX_MARGIN
-        return centre - half, centre + half
+        return rot, centre, half, np.einsum("nij,nj->ni", np.abs(rot), half)
+
+    def _boxes(self, geoms: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """World axis-aligned boxes (lo, hi) of geoms, from their local bounding boxes."""
+        _, centre, _, world_half = self._frames(geoms)
+        world_half = world_half + BOX_MARGIN
+        return centre - world_half, centre + world_half
 
     def _oriented_boxes(self, geoms: np.ndarray) -> np.ndarray:
         """(n, 7) rows ``cx, cy, cos, sin, half_x, half_y, bounding radius``: the horizontal
         box of every geom reaching into the height band, turned with the geom if it turns
         about z only, else its world-axis box."""
-        model, data = self.world.model, self.world.data
         if len(geoms) == 0:
             return np.zeros((0, 7))
-        rot = data.geom_xmat[geoms].reshape(-1, 3, 3)
-        half = model.geom_aabb[geoms, 3:]
-        centre = data.geom_xpos[geoms] + np.einsum("nij,nj->ni", rot, model.geom_aabb[geoms, :3])
-        world_half = np.einsum("nij,nj->ni", np.abs(rot), half)
+        rot, centre, half, world_half = self._frames(geoms)
         z0, z1 = self.z_range
         keep = (centre[:, 2] + world_half[:, 2] >= z0) & (centre[:, 2] - world_half[:, 2] <= z1)
         upright = np.abs(rot[:, 2, 2]) > 1.0 - 1e-6
@@ -95,7 +98,7 @@ class ClearanceMap:
         return np.stack([centre[:, 0], centre[:, 1], cos, sin, hx, hy, np.hypot(hx, hy)], axis=1)[keep]
 
     def _rasterise(self, occupied: np.ndarray, geoms: np.ndarray) -> None:
-        """Mark every cell that a geom's box overlaps (at the rays' heights)."""
+        """Mark every cell that a geom's box overlaps (geoms reaching into the band)."""
         if len(geoms) == 0:
             return
         lo, hi = self._boxes(geoms)
@@ -111,17 +114,10 @@ class ClearanceMap:
             if c0 <= c1 and r0 <= r1:
                 occupied[r0:r1 + 1, c0:c1 + 1] = True
 
-    def distances(self, exclude_body: int) -> np.ndarray:
-        """Distance (cells) from each cell centre to the nearest occupied cell centre,
-        ignoring ``exclude_body`` (-1: none); rebuilt when moving geoms moved."""
-        return self._state(exclude_body)[1]
-
-    def boxes(self, exclude_body: int) -> tuple[np.ndarray, ...]:
-        """The oriented boxes (columns of :meth:`_oriented_boxes`), ignoring ``exclude_body``."""
-        return self._state(exclude_body)[2]
-
     def snapshot(self, exclude_body: int) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
-        """(:meth:`distances`, :meth:`boxes`) in one look at the moving geoms."""
+        """(distance map, oriented boxes) ignoring ``exclude_body`` (-1: none), rebuilt when
+        moving geoms moved. The map holds each cell centre's distance (cells) to the nearest
+        occupied cell centre; the boxes are the columns of :meth:`_oriented_boxes`."""
         state = self._state(exclude_body)
         return state[1], state[2]
 
@@ -175,7 +171,7 @@ class ClearanceMap:
             step = math.sqrt(c * c - half_width * half_width) * 0.999
             if along + step >= length:
                 return True
-            if step < 0.5 * RESOLUTION:  # creeping past an obstacle: let the rays decide
+            if step < 0.5 * RESOLUTION:  # creeping past an obstacle: let the exact sweep decide
                 return False
             along += step
 
