@@ -1,13 +1,14 @@
 """Two-agent step speed against the single-agent env in the same house, in the same run.
 
     python benchmarks/multiagent.py [--ids Legent/ComeHere-TwoRoom-v0,...] [--steps 1000] [--size 96]
-                                    [--repeats 3] [--user random|still]
+                                    [--repeats 3] [--user random|still] [--distance-info]
 
 For each env id, on one core: steps/s of the single-agent ``HouseholdEnv`` (one egocentric
 render per step) and of ``HouseholdParallelEnv`` (the user acts too: two egocentric renders
 per step), both in the house of seed 1, with random moves, turns and tilts as text actions
 (the agent's sequence is the same in both; ``--user still``: the user passes None, so
-the second render is the only extra work). As in ``benchmarks/step.py``, an episode that
+the second render is the only extra work; ``--distance-info``: both envs measure
+``info["distance_to_goal"]`` every step, the multi-agent env's opt-in). As in ``benchmarks/step.py``, an episode that
 ends (the task done by chance) goes on in the same house: a reset would measure house
 generation, not stepping. The two are timed in alternating chunks of 50 steps (a busy
 machine slows both alike), ``--repeats`` rounds; the table gives the medians and the ratio
@@ -72,8 +73,13 @@ def _step_on(env: HouseholdParallelEnv, action: str, user_action: str | None) ->
         env.agents = list(env.possible_agents)
 
 
-def bench(env_id: str, steps: int, size: int, repeats: int, user: str = "random", chunk: int = 50) -> dict:
+def bench(env_id: str, steps: int, size: int, repeats: int, user: str = "random", chunk: int = 50,
+          distance_info: bool | None = None) -> dict:
+    """``distance_info`` None: each env's default (on in the single-agent env, off in the
+    multi-agent env); True or False: that, in both."""
     kwargs = {**id_kwargs(env_id), "width": size, "height": size}
+    if distance_info is not None:
+        kwargs["distance_info"] = distance_info
     agent_actions = random_actions(steps + WARMUP, 1)
     user_actions = random_actions(steps + WARMUP, 2) if user == "random" else [None] * (steps + WARMUP)
     rounds = [bench_round(kwargs, agent_actions, user_actions, chunk) for _ in range(repeats)]
@@ -88,13 +94,15 @@ def main(argv=None) -> int:
     parser.add_argument("--size", type=int, default=96)
     parser.add_argument("--repeats", type=int, default=3)
     parser.add_argument("--user", choices=("random", "still"), default="random")
+    parser.add_argument("--distance-info", action="store_true",
+                        help="both envs measure info['distance_to_goal'] every step (default: each env's default)")
     args = parser.parse_args(argv)
     if args.steps < 1 or args.repeats < 1:
         parser.error("--steps and --repeats must be positive")
     pin_to_one_core()
     print(f"{'env id':36s} {'1-agent/s':>10} {'2-agent/s':>10} {'ratio':>6}  per round")
     for env_id in args.ids.split(","):
-        r = bench(env_id, args.steps, args.size, args.repeats, args.user)
+        r = bench(env_id, args.steps, args.size, args.repeats, args.user, distance_info=args.distance_info or None)
         rounds = " ".join(f"{x:.2f}" for x in r["rounds"])
         print(f"{env_id:36s} {r['single']:>10.0f} {r['two']:>10.0f} {r['ratio']:>6.2f}  {rounds}", flush=True)
     return 0

@@ -202,3 +202,22 @@ def test_geodesic_cache_is_bounded_as_the_goal_moves():
         assert len(ctx._fields) <= FIELD_CACHE_SIZE
     assert len(walkable) > FIELD_CACHE_SIZE
     env.close()
+
+
+@pytest.mark.parametrize("env_id", ["Legent/ComeHere-TwoRoom-v0", "Legent/PickUp-OneRoom-v0"])
+def test_dense_reward_is_progress_along_the_geodesic(env_id):
+    env = gym.make(env_id, reward="dense", distance_info=False, **SMALL)  # dense measures it anyway
+    _, info = env.reset(seed=5)
+    before = info["distance_to_goal"]
+    for action in ("rotate_right(20), move_forward(1.0)", "move_forward(0.8)", "rotate_right(-45)"):
+        _, reward, terminated, _, info = env.step(action)
+        after = info["distance_to_goal"]
+        assert np.isfinite(after)
+        assert reward == pytest.approx(before - after - 0.01 + (10.0 if info["success"] else 0.0))
+        if terminated:
+            break
+        before = after
+    sparse = gym.make(env_id, distance_info=False, **SMALL)
+    _, info = sparse.reset(seed=5)
+    assert info["distance_to_goal"] is None
+    assert sparse.step("move_forward(0.5)")[4]["distance_to_goal"] is None

@@ -187,13 +187,13 @@ def _swept_everything(body: Body, direction_deg: float, distance: float) -> floa
                                          distance + SKIN, r) - SKIN)
     other = body._other_position()
     if other is not None:
-        best = min(best, _circle_hit(body.position, np.array([fx, fy]), other, r + body._other_radius(), distance))
+        best = min(best, _circle_hit(body.state.x, body.state.y, fx, fy, other, r + body._other_radius(), distance))
     return max(0.0, best)
 
 
 def _box_distance(boxes, x: float, y: float) -> np.ndarray:
     """Distance from (x, y) to every oriented box (0 inside)."""
-    cx, cy, cos, sin, hx, hy, _ = boxes
+    cx, cy, cos, sin, hx, hy = boxes.cx, boxes.cy, boxes.cos, boxes.sin, boxes.hx, boxes.hy
     px, py = cos * (x - cx) + sin * (y - cy), cos * (y - cy) - sin * (x - cx)
     return np.hypot(np.maximum(np.abs(px) - hx, 0.0), np.maximum(np.abs(py) - hy, 0.0))
 

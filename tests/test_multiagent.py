@@ -184,7 +184,8 @@ def _same(a, b):
 def test_still_user_wrapper_equals_single_agent_env(env_id):
     actions = _scripted_actions(40, 3)
     single = _run(gym.make(env_id, **SMALL), 11, actions)
-    wrapped = _run(ma.make_single_agent(env_id, partner="still", **SMALL), 11, actions)
+    # distance_info: the single-agent env's default (the multi-agent env's is off)
+    wrapped = _run(ma.make_single_agent(env_id, partner="still", distance_info=True, **SMALL), 11, actions)
     assert len(single) == len(wrapped) > 40
     for step, (a, b) in enumerate(zip(single, wrapped)):
         assert _same(a, b), f"step {step} differs"
@@ -196,7 +197,7 @@ def test_still_user_wrapper_equals_single_agent_env_every_id(env_id):
     actions = _scripted_actions(60, 5)
     for seed in (0, 1):
         single = _run(gym.make(env_id, **SMALL), seed, actions)
-        wrapped = _run(ma.make_single_agent(env_id, partner="still", **SMALL), seed, actions)
+        wrapped = _run(ma.make_single_agent(env_id, partner="still", distance_info=True, **SMALL), seed, actions)
         assert len(single) == len(wrapped) and all(_same(a, b) for a, b in zip(single, wrapped))
 
 
@@ -443,3 +444,21 @@ def test_expert_with_a_wandering_user_acceptance():
     wins = expert_with_wandering_user(200)
     print(f"expert with a wandering user, ComeHere-TwoRoom: {wins}/200")
     assert wins >= 190  # >= 95%
+
+
+def test_distance_to_goal_is_measured_only_on_request():
+    actions = {"user": "move_forward(0.5), rotate_right(30)", "agent": "move_forward(0.5)"}
+    env = ma.parallel_env(task="ComeHere", layout="TwoRoom", **SMALL)
+    _, infos = env.reset(seed=3)
+    assert infos["agent"]["distance_to_goal"] is None and infos["user"]["distance_to_goal"] is None
+    _, rewards, _, _, infos = env.step(actions)
+    assert infos["agent"]["distance_to_goal"] is None
+    for kwargs in ({"distance_info": True}, {"reward": "dense"}):
+        env = ma.parallel_env(task="ComeHere", layout="TwoRoom", **kwargs, **SMALL)
+        _, infos = env.reset(seed=3)
+        before = infos["agent"]["distance_to_goal"]
+        _, rewards, _, _, infos = env.step(actions)
+        after = infos["agent"]["distance_to_goal"]
+        assert 0 < after < math.inf and 0 < before < math.inf
+        if "reward" in kwargs:  # the dense reward is the progress along that distance
+            assert rewards["agent"] == pytest.approx(before - after - 0.01)

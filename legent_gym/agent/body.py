@@ -163,8 +163,7 @@ class Body:
             best = min(best, clearance.sweep(boxes, x, y, fx, fy, distance + SKIN, r) - SKIN)
         other = self._other_position()
         if other is not None:
-            best = min(best, _circle_hit(self.position, np.array([fx, fy]), other, r + self._other_radius(),
-                                         distance))
+            best = min(best, _circle_hit(x, y, fx, fy, other, r + self._other_radius(), distance))
         return max(0.0, best)
 
     def _clearance(self) -> ClearanceMap:
@@ -202,12 +201,12 @@ class Body:
             return Outcome(True, f"pitch clamped to {self.state.pitch:.0f} degrees (range {self.pitch_range})")
         return Outcome(True)
 
-    def _other_position(self) -> np.ndarray | None:
+    def _other_position(self) -> tuple[float, float] | None:
         if self._other is None:
             return None
         mocap = self.world.avatar_mocap_ids(self._other)[0]
-        pos = self.world.data.mocap_pos[mocap]
-        return None if pos[2] < -1 else pos[:2].copy()
+        x, y, z = self.world.data.mocap_pos[mocap].tolist()
+        return None if z < -1 else (x, y)
 
     def _other_radius(self) -> float:
         return (self.world.options.user if self._other == "user" else self.world.options.agent).radius
@@ -474,11 +473,13 @@ def _clamp(value: float, low: float, high: float) -> float:
     return float(min(max(value, low), high))
 
 
-def _circle_hit(start: np.ndarray, direction: np.ndarray, centre: np.ndarray, radius: float, limit: float) -> float:
-    """Distance along a ray from ``start`` to where it enters a circle (``limit`` if never)."""
-    rel = centre - start
-    along = float(rel @ direction)
-    perp2 = float(rel @ rel) - along * along
+def _circle_hit(x: float, y: float, fx: float, fy: float, centre: tuple[float, float], radius: float,
+                limit: float) -> float:
+    """Distance along a ray from (x, y) along the unit (fx, fy) to where it enters a circle
+    (``limit`` if never)."""
+    rx, ry = centre[0] - x, centre[1] - y
+    along = rx * fx + ry * fy
+    perp2 = rx * rx + ry * ry - along * along
     if along < 0 or perp2 > radius * radius:
         return limit
     return max(0.0, along - math.sqrt(radius * radius - perp2))

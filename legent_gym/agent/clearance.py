@@ -20,6 +20,7 @@ Geoms of bodies welded to the world (walls, furniture) are taken once; geoms tha
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -33,6 +34,27 @@ BOX_MARGIN = 1e-6
 #: to any box from below, less one cell diagonal (both points may be anywhere in their
 #: cells), less a little for the float32 distances.
 _CELL_SLACK = math.sqrt(2.0) + 1e-3
+
+
+class BoxSet(NamedTuple):
+    """Oriented horizontal boxes: columns for the vectorised prefilter of a sweep, and the
+    same values as per-box tuples for its exact scalar tests (indexing a list of floats is
+    several times cheaper than taking numpy scalars out of arrays)."""
+
+    cx: np.ndarray
+    cy: np.ndarray
+    cos: np.ndarray
+    sin: np.ndarray
+    hx: np.ndarray  # half sizes along the box's own axes
+    hy: np.ndarray
+    bound: np.ndarray  # bounding-circle radius
+    rows: list[tuple[float, float, float, float, float, float]]  # (cx, cy, cos, sin, hx, hy)
+
+    @classmethod
+    def from_rows(cls, rows: np.ndarray) -> BoxSet:
+        """From an (n, 7) array of :meth:`ClearanceMap._oriented_boxes` rows."""
+        columns = (np.ascontiguousarray(column) for column in rows.T)
+        return cls(*columns, [tuple(r) for r in rows[:, :6].tolist()])
 
 
 class ClearanceMap:
@@ -63,7 +85,7 @@ class ClearanceMap:
         self._static[:, [0, -1]] = True
         self._rasterise(self._static, self._static_geoms)
         #: excluded body -> (poses of the moving geoms it was made for, distance map, boxes)
-        self._maps: dict[int, tuple[bytes, np.ndarray, tuple[np.ndarray, ...]]] = {}
+        self._maps: dict[int, tuple[bytes, np.ndarray, BoxSet]] = {}
 
     # -- building -----------------------------------------------------------------------
     def _frames(self, geoms: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -114,14 +136,14 @@ class ClearanceMap:
             if c0 <= c1 and r0 <= r1:
                 occupied[r0:r1 + 1, c0:c1 + 1] = True
 
-    def snapshot(self, exclude_body: int) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    def snapshot(self, exclude_body: int) -> tuple[np.ndarray, BoxSet]:
         """(distance map, oriented boxes) ignoring ``exclude_body`` (-1: none), rebuilt when
         moving geoms moved. The map holds each cell centre's distance (cells) to the nearest
-        occupied cell centre; the boxes are the columns of :meth:`_oriented_boxes`."""
+        occupied cell centre; the boxes are those of :meth:`_oriented_boxes`."""
         state = self._state(exclude_body)
         return state[1], state[2]
 
-    def _state(self, exclude_body: int) -> tuple[bytes, np.ndarray, tuple[np.ndarray, ...]]:
+    def _state(self, exclude_body: int) -> tuple[bytes, np.ndarray, BoxSet]:
         model, data = self.world.model, self.world.data
         lo, hi = self._span
         # The excluded body (a held object) moves with whoever holds it: leave it out.
@@ -141,7 +163,7 @@ class ClearanceMap:
 
         dist = cv2.distanceTransform((~occupied).view(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
         boxes = np.concatenate([self._static_boxes, self._oriented_boxes(moving)])
-        state = (poses, dist, tuple(np.ascontiguousarray(column) for column in boxes.T))
+        state = (poses, dist, BoxSet.from_rows(boxes))
         if len(self._maps) >= 4:  # the agent's and the user's (each holding or not)
             self._maps.clear()
         self._maps[exclude_body] = state
@@ -176,27 +198,25 @@ class ClearanceMap:
             along += step
 
     @staticmethod
-    def sweep(boxes: tuple[np.ndarray, ...], x: float, y: float, fx: float, fy: float, length: float,
-              radius: float) -> float:
+    def sweep(boxes: BoxSet, x: float, y: float, fx: float, fy: float, length: float, radius: float) -> float:
         """How far a disc of ``radius`` at (x, y) moves along the unit direction (fx, fy)
         before it touches a box (``inf`` if not within ``length``).
 
         A box the disc already overlaps blocks only a move that goes deeper into it (so an
         avatar pushed against something can always back away).
         """
-        cx, cy, cos, sin, hx, hy, bound = boxes
         # Boxes whose bounding circle comes within reach of the swept strip, then each exactly.
-        rx, ry = cx - x, cy - y
+        rx, ry = boxes.cx - x, boxes.cy - y
         along = rx * fx + ry * fy
-        reach = bound + radius
+        reach = boxes.bound + radius
         near = np.nonzero((np.abs(rx * fy - ry * fx) <= reach) & (along >= -reach) & (along <= length + reach))[0]
         best = math.inf
+        rows = boxes.rows
         for i in near.tolist():
-            c, s = float(cos[i]), float(sin[i])
-            ox, oy = x - float(cx[i]), y - float(cy[i])
+            bcx, bcy, c, s, bx, by = rows[i]
+            ox, oy = x - bcx, y - bcy
             px, py = c * ox + s * oy, c * oy - s * ox  # the start in the box's frame
             dx, dy = c * fx + s * fy, c * fy - s * fx  # the direction in the box's frame
-            bx, by = float(hx[i]), float(hy[i])
             enter_x, leave_x = _slab(px, dx, bx + radius)
             enter_y, leave_y = _slab(py, dy, by + radius)
             enter, leave = max(enter_x, enter_y), min(leave_x, leave_y)

@@ -91,7 +91,7 @@ class HouseholdEnv(gym.Env):
     Privileged state is in ``info`` (for rewards, experts and analysis, not for policies):
     ``agent_pose`` (x, y, yaw, pitch), ``user_pose``, ``held`` (object id or None),
     ``task`` (goal ids), ``success``, ``distance_to_goal`` (geodesic metres to the current
-    sub-goal), ``action_text`` (the step as action code), ``action_results`` (one entry per
+    sub-goal; None with ``distance_info=False``), ``action_text`` (the step as action code), ``action_results`` (one entry per
     primitive: ``ok`` and ``reason``), ``action_error`` (only on unparsable actions),
     ``house_seed``, ``scene_name``, ``n_actions``.
 
@@ -116,7 +116,9 @@ class HouseholdEnv(gym.Env):
     house); ``house_seed`` (always the house of this seed); ``house_pool`` (a list of seeds
     cycled through); ``depth``, ``segmentation`` (extra observations); ``strict``
     (raise on invalid actions); ``reach`` (interaction distance, 1.5 m);
-    ``agent_radius``, ``agent_height``, ``camera_height`` (the body); ``render_mode``
+    ``agent_radius``, ``agent_height``, ``camera_height`` (the body); ``distance_info``
+    (``info["distance_to_goal"]`` every step, default True; the dense reward computes it
+    anyway); ``render_mode``
     ("rgb_array": a 256 px third-person view over the agent, or "depth_array").
 
     ## Version History
@@ -131,7 +133,7 @@ class HouseholdEnv(gym.Env):
                  house_seed: int | None = None, house_pool: list[int] | None = None, depth: bool = False,
                  segmentation: bool = False, strict: bool = False, reach: float = DEFAULT_REACH,
                  agent_radius: float = 0.25, agent_height: float = 1.6, camera_height: float = 1.5,
-                 render_mode: str | None = None, render_size: int = 256):
+                 distance_info: bool = True, render_mode: str | None = None, render_size: int = 256):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -146,6 +148,8 @@ class HouseholdEnv(gym.Env):
         self.task_name, self.layout, self.action_type = task, layout, action_type
         self.task = make_task(task)
         self.reward_type, self.strict, self.reach = reward, strict, reach
+        # The geodesic to the goal is measured only when something reads it.
+        self.measure_distance = bool(distance_info) or reward == "dense"
         self.render_mode, self.render_size = render_mode, render_size
         self.limits = ActionLimits()
         self.observe_depth, self.observe_segmentation = depth, segmentation
@@ -226,9 +230,9 @@ class HouseholdEnv(gym.Env):
         self._house_seed_used = house_seed
         self._n_actions = 0
         evaluation = self.goal.evaluate(self.ctx)
-        self._last_distance = evaluation.distance
+        self._last_distance = distance = self.distance_left()
         self._message = self.goal.instruction
-        info = self._info(evaluation)
+        info = self._info(evaluation, distance)
         info["attempts"] = tries
         return self._observation(), info
 
@@ -248,8 +252,9 @@ class HouseholdEnv(gym.Env):
             results = [self._execute(p) for p in primitives]
         evaluation = self.goal.evaluate(self.ctx)
         terminated = evaluation.success or evaluation.ends or self.ctx.finished
-        reward = self._reward(evaluation)
-        info = self._info(evaluation)
+        distance = self.distance_left()
+        reward = self._reward(evaluation, distance)
+        info = self._info(evaluation, distance)
         info.update(info_extra)
         texts = [format_action(p) for p in primitives]  # each primitive printed once
         info["action_text"] = ", ".join(texts)
@@ -291,14 +296,18 @@ class HouseholdEnv(gym.Env):
             outcome.reason = f"{note}; {outcome.reason}" if outcome.reason else note
         return outcome
 
-    def _reward(self, evaluation) -> float:
+    def distance_left(self) -> float | None:
+        """Geodesic metres to the current sub-goal, or None when nothing measures it."""
+        return self.goal.distance_left(self.ctx) if self.measure_distance else None
+
+    def _reward(self, evaluation, distance: float | None) -> float:
         if self.reward_type == "sparse":
             return 1.0 if evaluation.success else 0.0
         progress = 0.0
-        if evaluation.distance is not None and self._last_distance is not None and \
-                np.isfinite(evaluation.distance) and np.isfinite(self._last_distance):
-            progress = self._last_distance - evaluation.distance
-        self._last_distance = evaluation.distance
+        if distance is not None and self._last_distance is not None and \
+                np.isfinite(distance) and np.isfinite(self._last_distance):
+            progress = self._last_distance - distance
+        self._last_distance = distance
         return float(progress - 0.01 + (10.0 if evaluation.success else 0.0))
 
     # -- observations and info ----------------------------------------------------------------
@@ -316,7 +325,7 @@ class HouseholdEnv(gym.Env):
             obs["segmentation"] = renderer.segmentation("agent")
         return obs
 
-    def _info(self, evaluation) -> dict[str, Any]:
+    def _info(self, evaluation, distance: float | None) -> dict[str, Any]:
         a, u = self.ctx.agent.state, self.ctx.user.state
         return {
             "agent_pose": (a.x, a.y, a.yaw, a.pitch),
@@ -324,7 +333,7 @@ class HouseholdEnv(gym.Env):
             "held": a.held,
             "task": {"name": self.task_name, **self.goal.describe()},
             "success": bool(evaluation.success),
-            "distance_to_goal": evaluation.distance,
+            "distance_to_goal": distance,
             "house_seed": self._house_seed_used,
             "scene_name": self.ctx.scene.name,
             "n_actions": self._n_actions,

@@ -103,11 +103,14 @@ class HouseholdParallelEnv(ParallelEnv):
     ## Info
     The agent's info is the single-agent env's. The user's holds the same shared fields
     (poses, task, success, distances) with its own ``held``, ``action_text``,
-    ``action_results`` and ``action_error``.
+    ``action_results`` and ``action_error``. ``distance_to_goal`` is None unless
+    ``distance_info=True`` or ``reward="dense"``: where the goal is the user (ComeHere,
+    BringMe), a user who moves makes it a shortest-path search over the whole house every
+    step, dearer than the step itself.
 
     ## Arguments
     ``task``, ``layout``, ``action_type``, ``max_cycles``, ``rewards``,
-    ``instruction_from_user``, ``render_mode`` (``"rgb_array"``: a third-person view of
+    ``instruction_from_user``, ``distance_info`` (default False, see Info), ``render_mode`` (``"rgb_array"``: a third-person view of
     both), ``render_size``; every other keyword goes to ``HouseholdEnv`` (``width``,
     ``height``, ``fovy``, ``camera``, ``reward``, ``scene``, ``house_seed``, ``house_pool``,
     ``depth``, ``segmentation``, ``strict``, ``reach``, ...). The user's camera takes the
@@ -119,7 +122,8 @@ class HouseholdParallelEnv(ParallelEnv):
 
     def __init__(self, task: str = "ComeHere", layout: str = "OneRoom", action_type: str = "text", *,
                  max_cycles: int = DEFAULT_MAX_CYCLES, rewards: str = "team", instruction_from_user: bool = False,
-                 render_mode: str | None = None, render_size: int = 256, **household_kwargs: Any):
+                 distance_info: bool = False, render_mode: str | None = None, render_size: int = 256,
+                 **household_kwargs: Any):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, "
                              f"got {render_mode!r}")
@@ -127,7 +131,7 @@ class HouseholdParallelEnv(ParallelEnv):
             raise ValueError(f"rewards must be one of {REWARD_MODES}, got {rewards!r}")
         if isinstance(max_cycles, bool) or not isinstance(max_cycles, int | np.integer) or max_cycles < 1:
             raise ValueError(f"max_cycles must be a positive integer, got {max_cycles!r}")
-        self.core = HouseholdEnv(task, layout, action_type, **household_kwargs)
+        self.core = HouseholdEnv(task, layout, action_type, distance_info=distance_info, **household_kwargs)
         # The user's eyes get the agent's field of view (the builder's default user is 90 degrees).
         options = self.core.build_options
         self.core.build_options = replace(options, user=replace(options.user, fovy=options.agent.fovy))
@@ -208,7 +212,7 @@ class HouseholdParallelEnv(ParallelEnv):
         user_text, user_results, user_error = self._user_turn(actions[USER])
         distance_after_user = None
         if self.rewards_mode == "per_agent" and self.core.reward_type == "dense":
-            distance_after_user = self.core.goal.evaluate(ctx).distance
+            distance_after_user = self.core.distance_left()
 
         said_before = len(ctx.speech)
         carried = ctx.user.state.held

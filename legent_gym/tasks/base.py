@@ -137,8 +137,6 @@ class TaskContext:
 class Evaluation:
     success: bool
     ends: bool  # the episode is over (success, or a terminal failure such as a wrong answer)
-    #: Geodesic metres left to the current sub-goal (for shaped rewards); None if not defined.
-    distance: float | None = None
     info: dict[str, Any] = field(default_factory=dict)
 
 
@@ -149,7 +147,15 @@ class TaskInstance(ABC):
     instruction: str
 
     @abstractmethod
-    def evaluate(self, ctx: TaskContext) -> Evaluation: ...
+    def evaluate(self, ctx: TaskContext) -> Evaluation:
+        """Success and the end of the episode: cheap, asked after every action."""
+
+    @abstractmethod
+    def distance_left(self, ctx: TaskContext) -> float:
+        """Geodesic metres left to the current sub-goal (``inf`` if unreachable), for shaped
+        rewards and ``info``. Apart from :meth:`evaluate` because it is dearer: a goal that
+        moves (the user, in the multi-agent env) costs a search of the house each step, so
+        envs ask only when a reward or the caller needs it."""
 
     def describe(self) -> dict[str, Any]:
         return {"target": getattr(self, "target", None), "receptacle": getattr(self, "receptacle", None)}

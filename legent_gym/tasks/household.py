@@ -30,8 +30,9 @@ def _said(ctx: TaskContext, names: list[str]) -> bool:
     return any(name in text.lower() for text in ctx.speech for name in names)
 
 
-def _goal_distance(ctx: TaskContext, point) -> float:
-    return ctx.geodesic_to(point)
+def _to_user(ctx: TaskContext) -> float:
+    """Geodesic metres left until the agent is within ComeHere's distance of the user."""
+    return max(ctx.geodesic_to(ctx.user.position) - COME_HERE_DISTANCE, 0.0)
 
 
 def _object_distance(ctx: TaskContext, object_id: int) -> float:
@@ -79,8 +80,10 @@ class ComeHereInstance(TaskInstance):
     def evaluate(self, ctx: TaskContext) -> Evaluation:
         gap = ctx.agent.horizontal_distance(ctx.user.position)
         done = gap < COME_HERE_DISTANCE
-        return Evaluation(done, done, max(_goal_distance(ctx, ctx.user.position) - COME_HERE_DISTANCE, 0.0),
-                          {"distance_to_user": gap})
+        return Evaluation(done, done, {"distance_to_user": gap})
+
+    def distance_left(self, ctx):
+        return _to_user(ctx)
 
 
 class ComeHere(Task):
@@ -105,7 +108,10 @@ class GoToInstance(TaskInstance):
     def evaluate(self, ctx):
         near = ctx.reach_distance(ctx.agent.position, self.target) <= ctx.agent.reach
         done = near and ctx.is_visible(ctx.agent, self.target)
-        return Evaluation(done, done, _object_distance(ctx, self.target))
+        return Evaluation(done, done)
+
+    def distance_left(self, ctx):
+        return _object_distance(ctx, self.target)
 
 
 class GoTo(Task):
@@ -138,7 +144,10 @@ class PickUpInstance(TaskInstance):
 
     def evaluate(self, ctx):
         done = ctx.agent.state.held == self.target
-        return Evaluation(done, done, _object_distance(ctx, self.target))
+        return Evaluation(done, done)
+
+    def distance_left(self, ctx):
+        return _object_distance(ctx, self.target)
 
 
 class PickUp(Task):
@@ -162,11 +171,12 @@ class BringMeInstance(TaskInstance):
         holding = ctx.agent.state.held == self.target
         near = ctx.agent.horizontal_distance(ctx.user.position) < COME_HERE_DISTANCE
         done = holding and near
-        if holding:
-            left = max(_goal_distance(ctx, ctx.user.position) - COME_HERE_DISTANCE, 0.0)
-        else:
-            left = _object_distance(ctx, self.target) + _goal_distance(ctx, ctx.user.position)
-        return Evaluation(done, done, left)
+        return Evaluation(done, done)
+
+    def distance_left(self, ctx):
+        if ctx.agent.state.held == self.target:
+            return _to_user(ctx)
+        return _object_distance(ctx, self.target) + ctx.geodesic_to(ctx.user.position)
 
 
 class BringMe(Task):
@@ -198,8 +208,10 @@ class WhereIsInstance(TaskInstance):
     def evaluate(self, ctx):
         done = _said(ctx, list(self.answers))
         # Any speech ends the episode, right or wrong (LEGENT).
-        return Evaluation(done, bool(ctx.speech), _object_distance(ctx, self.target),
-                          {"answers": list(self.answers)})
+        return Evaluation(done, bool(ctx.speech), {"answers": list(self.answers)})
+
+    def distance_left(self, ctx):
+        return _object_distance(ctx, self.target)
 
     def describe(self):
         return {**super().describe(), "answers": list(self.answers)}
@@ -238,11 +250,12 @@ class PutOnInstance(TaskInstance):
 
     def evaluate(self, ctx):
         done = _rests_on(ctx, self.target, self.receptacle)
+        return Evaluation(done, done)
+
+    def distance_left(self, ctx):
         if ctx.agent.state.held == self.target:
-            left = _object_distance(ctx, self.receptacle)
-        else:
-            left = _object_distance(ctx, self.target) + 1.0
-        return Evaluation(done, done, left)
+            return _object_distance(ctx, self.receptacle)
+        return _object_distance(ctx, self.target) + 1.0  # + 1: the put still to come
 
 
 class PutOn(Task):
