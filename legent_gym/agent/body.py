@@ -94,6 +94,11 @@ class Body:
         return np.array([self.state.x, self.state.y])
 
     @property
+    def xy(self) -> tuple[float, float]:
+        """(x, y) as plain floats: what per-step arithmetic wants (no array to build)."""
+        return (self.state.x, self.state.y)
+
+    @property
     def camera_position(self) -> np.ndarray:
         return np.array([self.state.x, self.state.y, self.options.camera_height])
 
@@ -229,7 +234,7 @@ class Body:
                    self.world.geom_door.get(g), g)
 
     def horizontal_distance(self, point) -> float:
-        return float(np.hypot(point[0] - self.state.x, point[1] - self.state.y))
+        return math.hypot(float(point[0]) - self.state.x, float(point[1]) - self.state.y)
 
     def _in_reach(self, hit: Hit) -> str | None:
         d = self.horizontal_distance(hit.point)

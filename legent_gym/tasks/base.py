@@ -54,7 +54,7 @@ class TaskContext:
             fields[key] = grid
         elif next(reversed(fields)) != key:
             fields[key] = fields.pop(key)  # most recently used last
-        here = nav.nearest_walkable_cell((self.agent.state.x, self.agent.state.y))
+        here = nav.nearest_walkable_cell(self.agent.xy)
         return math.inf if here is None else float(grid[here])
 
     def distance_to_object(self, object_id: int) -> float:

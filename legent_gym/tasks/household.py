@@ -32,7 +32,7 @@ def _said(ctx: TaskContext, names: list[str]) -> bool:
 
 def _to_user(ctx: TaskContext) -> float:
     """Geodesic metres left until the agent is within ComeHere's distance of the user."""
-    return max(ctx.geodesic_to(ctx.user.position) - COME_HERE_DISTANCE, 0.0)
+    return max(ctx.geodesic_to(ctx.user.xy) - COME_HERE_DISTANCE, 0.0)
 
 
 def _object_distance(ctx: TaskContext, object_id: int) -> float:
@@ -78,7 +78,7 @@ class ComeHereInstance(TaskInstance):
     instruction: str
 
     def evaluate(self, ctx: TaskContext) -> Evaluation:
-        gap = ctx.agent.horizontal_distance(ctx.user.position)
+        gap = ctx.agent.horizontal_distance(ctx.user.xy)
         done = gap < COME_HERE_DISTANCE
         return Evaluation(done, done, {"distance_to_user": gap})
 
@@ -169,14 +169,14 @@ class BringMeInstance(TaskInstance):
 
     def evaluate(self, ctx):
         holding = ctx.agent.state.held == self.target
-        near = ctx.agent.horizontal_distance(ctx.user.position) < COME_HERE_DISTANCE
+        near = ctx.agent.horizontal_distance(ctx.user.xy) < COME_HERE_DISTANCE
         done = holding and near
         return Evaluation(done, done)
 
     def distance_left(self, ctx):
         if ctx.agent.state.held == self.target:
             return _to_user(ctx)
-        return _object_distance(ctx, self.target) + ctx.geodesic_to(ctx.user.position)
+        return _object_distance(ctx, self.target) + ctx.geodesic_to(ctx.user.xy)
 
 
 class BringMe(Task):
