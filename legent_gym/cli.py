@@ -142,7 +142,7 @@ def cmd_collect(args) -> int:
     formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
     config = CollectConfig(args.env_id, args.episodes, args.out, formats=formats, workers=args.workers,
                            seed=args.seed, env_kwargs=env_kwargs, policy=args.policy, window=args.window,
-                           dataset_id=args.dataset_id, max_attempts=args.max_attempts)
+                           dataset_id=args.dataset_id, max_attempts=args.max_attempts, perturb=args.perturb)
     print(describe(collect(config, show_progress=not args.quiet)))
     return 0
 
@@ -202,6 +202,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--window", type=int, default=6, help="images per interleaved.jsonl sample")
     p.add_argument("--dataset-id", help="Minari dataset id (default legent/<Task>-<Layout>/expert-v0)")
     p.add_argument("--max-attempts", type=int, help="give up after this many attempts (default 10 N + 100)")
+    p.add_argument("--perturb", type=float, default=0.0,
+                   help="recovery data: per step, the probability of executing a random move/turn in place "
+                        "of the policy's action; the step is labelled with the expert's action (LEGENT format)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_collect)
     return parser

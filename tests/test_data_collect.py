@@ -133,3 +133,22 @@ def test_a_policy_that_never_succeeds_stops_at_the_attempt_limit(tmp_path):
     with pytest.raises(CollectError, match="only 0 of 2 episodes succeeded in 4 attempts"):
         collect(config, show_progress=False)
     assert load_trajectories(tmp_path / "legent") == []
+
+
+def test_perturbed_collection_depends_on_the_seed_alone_and_keeps_the_labels(tmp_path):
+    """``--perturb``: random steps in place of the expert's, each labelled with the expert's
+    action; two workers give the same trajectories as one, and the option is part of what a
+    resumed run must share."""
+    kwargs = {"width": 32, "height": 32}
+    one = CollectConfig(ENV_ID, 4, str(tmp_path / "one"), formats=("legent",), env_kwargs=kwargs, perturb=0.4)
+    collect(one, show_progress=False)
+    collect(replace(one, out=str(tmp_path / "two"), workers=2), show_progress=False)
+    first, second = (load_trajectories(tmp_path / name / "legent") for name in ("one", "two"))
+    assert [t["interactions"] for t in first] == [t["interactions"] for t in second]
+    steps = [s for t in first for s in t["interactions"][1]["trajectory"]]
+    assert any("expert_action" in s for s in steps) and not all("expert_action" in s for s in steps)
+    assert all(t["success"] for t in first)
+    with pytest.raises(CollectError, match="perturb"):
+        collect(replace(one, perturb=0.0), show_progress=False)
+    with pytest.raises(CollectError, match="--perturb"):
+        collect(replace(one, out=str(tmp_path / "bad"), perturb=1.0), show_progress=False)

@@ -23,6 +23,8 @@ from baselines.reproduce_table import (  # noqa: E402
     SCALES,
     TRAIN_TASKS,
     _trained,
+    collect_command,
+    data_folder,
     main,
     run,
     training_runs,
@@ -86,4 +88,17 @@ def test_bad_arguments_are_named(tmp_path):
         run("huge", tmp_path, workers=1)
     with pytest.raises(ValueError, match="workers must be >= 1"):
         run("small", tmp_path, workers=0)
+    with pytest.raises(ValueError, match="perturb must be in"):
+        run("small", tmp_path, workers=1, perturb=1.0)
     assert main(["--out", str(tmp_path / "none"), "--redraw"]) == 2  # no results.json to redraw
+
+
+def test_recovery_data_has_its_own_folders_and_collect_flag(tmp_path):
+    scale = SCALES["small"]
+    clean = collect_command("ComeHere-OneRoom", 0, 5, data_folder(tmp_path, "ComeHere-OneRoom"), scale, 1)
+    assert "--perturb" not in clean and clean[clean.index("--out") + 1] == str(tmp_path / "data" / "ComeHere-OneRoom")
+    folder = data_folder(tmp_path, "ComeHere-OneRoom", 0.25)
+    assert folder == tmp_path / "data" / "ComeHere-OneRoom-perturb0.25"
+    perturbed = collect_command("ComeHere-OneRoom", 0, 5, folder, scale, 1, perturb=0.25)
+    assert perturbed[-2:] == ["--perturb", "0.25"] and perturbed[:-2] == clean[:clean.index("--out") + 1] + [
+        str(folder)] + clean[clean.index("--out") + 2:]

@@ -126,6 +126,27 @@ def test_encoded_windows_match_the_jsonl_lines(datasets):
     assert int(batch["window_images"].max()) < batch["images"].shape[0]
 
 
+def test_recovery_data_trains_on_the_experts_labels_and_shows_what_was_executed(tmp_path):
+    out = tmp_path / "perturbed"
+    collect(CollectConfig("Legent/ComeHere-OneRoom-v0", 4, str(out), formats=("legent",), seed=10_000_000,
+                          env_kwargs={"width": SIZE, "height": SIZE}, perturb=0.5), show_progress=False)
+    root = out / "legent"
+    trajectories = read_trajectories(root)
+    assert sum(t.perturbed for t in trajectories) > 0
+    lines = [json.loads(x) for x in (root / "interleaved.jsonl").read_text().splitlines()]
+    loaded = [(root, t) for t in trajectories]
+    codec = ActionCodec.fit(a for _, t in loaded for a in (*t.labels, *t.actions))
+    vocab = WordVocab.fit(t.instruction for _, t in loaded)
+    data = encode(loaded, codec, vocab, window=6)
+    executed = [a for t in trajectories for a in t.actions]
+    for i, line in enumerate(lines):
+        assert codec.templates[data.target_template[i]] == decompose(line["action"]).template  # the label
+        assert line.get("executed", line["action"]) == executed[i]
+        if "executed" in line:  # the next line's history holds the perturbation, not the label
+            nxt = lines[i + 1] if i + 1 < len(lines) and lines[i + 1]["trajectory"] == line["trajectory"] else None
+            assert nxt is None or nxt["history"][-1] == line["executed"]
+
+
 def test_mirrored_trajectories_flip_views_and_turns(datasets):
     root = datasets["ComeHere-OneRoom"] / "legent"
     loaded = [(root, t) for t in read_trajectories(root)]

@@ -37,8 +37,22 @@ class Trajectory:
     instruction: str
     env_id: str | None
     image_paths: list[str]  # relative to the dataset root; one per step
-    actions: list[str]      # the expert's action text per step
+    actions: list[str]      # the action text executed at each step (what the history shows)
     window: int             # the most images one line holds
+    #: The target per step: the expert's action. It differs from ``actions`` only at the
+    #: perturbed steps of recovery data (``legent-gym collect --perturb``). None: ``actions``.
+    labels: list[str] | None = None
+
+    def __post_init__(self) -> None:
+        if self.labels is None:
+            self.labels = list(self.actions)
+        if len(self.labels) != len(self.actions):
+            raise ValueError(f"trajectory {self.id}: {len(self.labels)} labels for {len(self.actions)} actions")
+
+    @property
+    def perturbed(self) -> int:
+        """How many steps executed something other than their label."""
+        return sum(a != b for a, b in zip(self.actions, self.labels))
 
 
 def resolve_root(path: str | os.PathLike) -> Path:
@@ -85,6 +99,7 @@ def read_trajectories(root: str | os.PathLike, limit: int | None = None) -> list
 def _trajectory(path: Path, traj_id: str, numbered: list[tuple[int, dict]]) -> Trajectory:
     images: list[str] = []
     actions: list[str] = []
+    labels: list[str] = []
     window = 1
     for n, (number, record) in enumerate(numbered):
         where = f"{path}:{number} (trajectory {traj_id})"
@@ -97,13 +112,14 @@ def _trajectory(path: Path, traj_id: str, numbered: list[tuple[int, dict]]) -> T
             raise DatasetError(f"{where}: {len(shown)} images need {max(len(shown) - 1, 0)} history actions, "
                                f"got {len(history)}")
         images.append(shown[-1])
-        actions.append(record["action"])
+        labels.append(record["action"])
+        actions.append(record.get("executed", record["action"]))  # a perturbed step executed another
         first = n + 1 - len(shown)
         if first < 0 or shown != images[first:] or history != actions[first:n]:
             raise DatasetError(f"{where}: its window is not the trajectory's last {len(shown)} steps")
         window = max(window, len(shown))
     first = numbered[0][1]
-    return Trajectory(traj_id, first["instruction"], first.get("env_id"), images, actions, window)
+    return Trajectory(traj_id, first["instruction"], first.get("env_id"), images, actions, window, labels)
 
 
 @dataclass
@@ -183,7 +199,7 @@ def encode(trajectories: Sequence[tuple[Path, Trajectory]], codec: ActionCodec, 
             images.append(image)
         traj_images.append(np.arange(base, len(images)))
         first_sample = len(rows["target_template"])
-        for n, text in enumerate(traj.actions):
+        for n, text in enumerate(traj.labels):  # targets: the labels; histories: what was executed
             lo = max(0, n + 1 - window)
             inputs = window_inputs(codec, vocab, window, traj.instruction, traj.actions[lo:n])
             for key, value in inputs.items():

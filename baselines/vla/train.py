@@ -158,7 +158,7 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
                              "or drop --resume")
         model, vocab = build_model(state)
     else:
-        codec = ActionCodec.fit((a for _, t in loaded for a in t.actions), bins=config.bins)
+        codec = ActionCodec.fit((a for _, t in loaded for a in (*t.labels, *t.actions)), bins=config.bins)
         vocab = WordVocab.fit(t.instruction for _, t in loaded)
         model = VLA(config.model, codec, len(vocab), vocab.max_words)
     data = encode(loaded, model.codec, vocab, config.model.window)

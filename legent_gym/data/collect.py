@@ -66,6 +66,9 @@ class CollectConfig:
     dataset_id: str | None = None
     #: Stop after this many attempts in all (default ``10 * episodes + 100``).
     max_attempts: int | None = None
+    #: Recovery data: the probability per step of executing a random perturbation in place
+    #: of the policy's action, labelled with the expert's (see ``record_episode``).
+    perturb: float = 0.0
 
     def resolved_dataset_id(self) -> str:
         if self.dataset_id:
@@ -76,9 +79,12 @@ class CollectConfig:
 
     def identity(self) -> dict[str, Any]:
         """What a resumed run must share with the first (the episode count may grow)."""
-        return {"env_id": self.env_id, "env_kwargs": self.env_kwargs, "seed": self.seed,
-                "formats": sorted(self.formats), "policy": self.policy, "window": self.window,
-                "dataset_id": self.resolved_dataset_id()}
+        identity = {"env_id": self.env_id, "env_kwargs": self.env_kwargs, "seed": self.seed,
+                    "formats": sorted(self.formats), "policy": self.policy, "window": self.window,
+                    "dataset_id": self.resolved_dataset_id()}
+        if self.perturb:  # absent when 0: collections made before the option still resume
+            identity["perturb"] = self.perturb
+        return identity
 
     def attempt_limit(self) -> int:
         return self.max_attempts if self.max_attempts is not None else 10 * self.episodes + 100
@@ -127,14 +133,16 @@ class AttemptResult:
 class _Worker:
     """One env and one policy; encodes images and video where it runs (in parallel)."""
 
-    def __init__(self, env_id: str, env_kwargs: dict, policy: str | Callable, formats: tuple[str, ...]):
-        self.env_id, self.formats = env_id, formats
+    def __init__(self, env_id: str, env_kwargs: dict, policy: str | Callable, formats: tuple[str, ...],
+                 perturb: float = 0.0):
+        self.env_id, self.formats, self.perturb = env_id, formats, perturb
         # Every policy sees info["expert_action"] (a noisy expert or DAgger-style mixing needs it).
         self.env = make_env(env_id, env_kwargs, expert=True)
         self.policy = resolve_policy(policy) if isinstance(policy, str) else policy
 
     def run(self, attempt: int, seed: int) -> AttemptResult:
-        episode = record_episode(self.env, self.policy, seed=seed, attempt=attempt, env_id=self.env_id)
+        episode = record_episode(self.env, self.policy, seed=seed, attempt=attempt, env_id=self.env_id,
+                                 perturb=self.perturb)
         if not episode.success:
             return AttemptResult(attempt, False, episode.steps)
         result = AttemptResult(attempt, True, episode.steps, episode)
@@ -179,7 +187,7 @@ def _run_attempt(attempt: int, seed: int) -> AttemptResult:
 
 def _attempt_results(config: CollectConfig, policy, start: int, limit: int) -> Iterator[AttemptResult]:
     """Results of attempts ``start, start + 1, ...`` in order (computed ahead in parallel)."""
-    worker_args = (config.env_id, config.env_kwargs, policy, tuple(config.formats))
+    worker_args = (config.env_id, config.env_kwargs, policy, tuple(config.formats), config.perturb)
     if config.workers == 1:
         worker = _Worker(*worker_args)
         try:
@@ -216,6 +224,10 @@ def _check(config: CollectConfig, policy: Callable | None) -> None:
         raise CollectError(f"--workers must be >= 1, got {config.workers}")
     if config.window < 1:
         raise CollectError(f"--window must be >= 1, got {config.window}")
+    if not 0.0 <= config.perturb < 1.0:
+        raise CollectError(f"--perturb must be in [0, 1), got {config.perturb}")
+    if config.perturb and config.env_kwargs.get("action_type", "text") != "text":
+        raise CollectError("--perturb needs text actions (the labels are action code)")
     unknown = sorted(set(config.formats) - set(FORMATS))
     if unknown or not config.formats:
         raise CollectError(f"unknown format(s) {', '.join(unknown) or '(none given)'}; "

@@ -59,6 +59,9 @@ def read_png(path: str | os.PathLike) -> np.ndarray:
 def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
     """The ``trajectory.json`` of an episode."""
     steps = [{"image": f"{traj_id}/{n:04d}.png", "action": text} for n, text in enumerate(episode.action_texts)]
+    for step, label in zip(steps, episode.labels):
+        if label is not None:  # a perturbed step (record_episode(perturb=...)): the expert's action
+            step["expert_action"] = label
     return {
         "id": traj_id,
         "interactions": [
@@ -89,7 +92,11 @@ def build_prompt(instruction: str, history: Sequence[str]) -> str:
 def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW) -> list[dict[str, Any]]:
     """One training sample per step of a trajectory record: the last ``window`` views up
     to and including the step, the actions between them, the prompt and the target action.
-    Image paths are relative to the export root."""
+    Image paths are relative to the export root.
+
+    A perturbed step (recovery data, ``collect --perturb``) has the expert's action as its
+    target (``action``) and what was executed in ``executed``; the histories always hold
+    the executed actions."""
     if window < 1:
         raise ValueError(f"the interleaved window must be >= 1 image, got {window}")
     instruction = trajectory["interactions"][0]["text"]
@@ -100,7 +107,7 @@ def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW
     for n, step in enumerate(steps):
         first = max(0, n - window + 1)
         images = [s["image"] for s in steps[first:n + 1]]
-        history = [s["action"] for s in steps[first:n]]
+        history = [s["action"] for s in steps[first:n]]  # what was executed
         records.append({
             "trajectory": trajectory["id"],
             "step": n,
@@ -108,11 +115,14 @@ def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW
             "images": images,
             "history": history,
             "prompt": build_prompt(instruction, history),
-            "action": step["action"],
+            # The target: the expert's action, also where a perturbation was executed instead.
+            "action": step.get("expert_action", step["action"]),
             "task": task_name,
             "env_id": trajectory.get("env_id"),
             "seed": trajectory.get("seed"),
         })
+        if "expert_action" in step:
+            records[-1]["executed"] = step["action"]
     return records
 
 

@@ -90,6 +90,10 @@ class Episode:
     terminations: list[bool] = field(default_factory=list)
     truncations: list[bool] = field(default_factory=list)
     infos: list[dict[str, Any]] = field(default_factory=list)
+    #: Per step, the expert's action (code) where a perturbation was executed in its place
+    #: (``record_episode(perturb=...)``), else None. The view before such a step is a state
+    #: the policy reached; the expert's action there is its label, the perturbation is not.
+    labels: list[str | None] = field(default_factory=list)
     success: bool = False
     house_seed: int | None = None
     scene_name: str | None = None
@@ -113,8 +117,34 @@ def _action_text(action: Any, info: dict) -> str:
     return action if isinstance(action, str) else str(action)
 
 
-def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env_id: str) -> Episode:
-    """Reset with ``seed`` and play ``policy`` until the episode ends."""
+def perturbation(rng: np.random.Generator) -> str:
+    """A random navigation step in the expert's own step shapes (so it adds no new template
+    to a model's history): a turn of up to 90 degrees either way (half the time), a move of
+    0.3-2 m (a quarter), or a move then a turn (a quarter). Moves often end against
+    furniture: the states a cloned policy gets stuck in, which clean demonstrations never show."""
+    turn = f"rotate_right({round(float(rng.uniform(-90.0, 90.0)), 1) + 0.0!r})"
+    move = f"move_forward({round(float(rng.uniform(0.3, 2.0)), 2)!r})"
+    kind = rng.random()
+    return turn if kind < 0.5 else move if kind < 0.75 else f"{move}, {turn}"
+
+
+def _perturbation_rng(seed: int) -> np.random.Generator:
+    return np.random.default_rng([seed, 0x9E7])  # its own stream: the env's seed alone fixes it
+
+
+def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env_id: str,
+                   perturb: float = 0.0) -> Episode:
+    """Reset with ``seed`` and play ``policy`` until the episode ends.
+
+    ``perturb``: the probability, per step, of executing a random :func:`perturbation`
+    instead of the policy's action (DART-style recovery data: the expert, replanning from
+    wherever the perturbation left the agent, labels the states off its own path). Such a
+    step records the perturbation in ``actions``/``action_texts`` (what happened) and the
+    expert's action (``info["expert_action"]``, which the env must provide) in ``labels``.
+    The perturbations depend on ``seed`` alone. Text actions only."""
+    if not 0.0 <= perturb < 1.0:
+        raise ValueError(f"perturb must be in [0, 1), got {perturb}")
+    rng = _perturbation_rng(seed) if perturb > 0 else None
     obs, info = env.reset(seed=seed)
     task = dict(info.get("task", {}))
     episode = Episode(attempt=attempt, seed=seed, env_id=env_id, instruction=str(obs["instruction"]),
@@ -122,9 +152,17 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
     episode.observations.append(obs)
     episode.infos.append(recorded_info(info))
     while True:
-        action = policy(obs, info)
+        action, label = policy(obs, info), None
+        if rng is not None and rng.random() < perturb:
+            if "expert_action" not in info:
+                raise KeyError("perturb needs info['expert_action'] for the labels: wrap the env in ExpertInfo")
+            expert = info["expert_action"]
+            if not isinstance(expert, str):
+                raise TypeError("perturb needs text actions (action_type='text')")
+            action, label = perturbation(rng), expert
         obs, reward, terminated, truncated, info = env.step(action)
         episode.actions.append(action)
+        episode.labels.append(label)
         episode.action_texts.append(_action_text(action, info))
         episode.rewards.append(float(reward))
         episode.terminations.append(bool(terminated))
