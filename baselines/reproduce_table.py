@@ -31,6 +31,11 @@ the paper's protocol): recovery data. The training sets are collected with ``leg
   labels that state. Clean demonstrations never show the states a cloned policy drifts
   into (pressed against furniture, the object not yet in sight), so the model never learns
   to get out of them. The data goes to ``data/<task>-perturb<P>``.
+
+``--scan`` (also beyond the paper) collects Where Is with ``--find-strategy scan``: the
+expert looks around in place (right turns of 60 degrees) until the object is in view
+before it answers, instead of turning straight to an object the image does not show yet.
+The data goes to ``data/WhereIs-OneRoom-scan`` (with ``-perturb<P>`` after it).
 """
 
 from __future__ import annotations
@@ -112,24 +117,35 @@ def log(message: str) -> None:
 
 # -- 1. data ---------------------------------------------------------------------------------
 def collect_command(task: str, index: int, episodes: int, out: Path, scale: Scale, workers: int,
-                    perturb: float = 0.0) -> list[str]:
+                    perturb: float = 0.0, scan: bool = False) -> list[str]:
     command = [sys.executable, "-m", "legent_gym.cli", "collect", f"Legent/{task}-v0", "--episodes", str(episodes),
                "--out", str(out), "--format", "legent", "--workers", str(workers),
                "--seed", str(DATA_SEED + index * DATA_SEED_STRIDE), "--width", str(scale.image_size),
                "--height", str(scale.image_size), "--quiet"]
-    return command + ["--perturb", repr(perturb)] if perturb else command
+    if perturb:
+        command += ["--perturb", repr(perturb)]
+    if scans(task, scan):
+        command += ["--find-strategy", "scan"]
+    return command
 
 
-def data_folder(root: Path, task: str, perturb: float = 0.0) -> Path:
-    """``data/<task>``, or ``data/<task>-perturb<P>`` for recovery data."""
-    return root / "data" / (f"{task}-perturb{perturb!r}" if perturb else task)
+def scans(task: str, scan: bool) -> bool:
+    """Whether ``--scan`` changes this task's expert (only Where Is calls ``find``)."""
+    return scan and task.startswith("WhereIs")
 
 
-def collect_data(root: Path, scale: Scale, workers: int, perturb: float = 0.0) -> dict[str, Path]:
+def data_folder(root: Path, task: str, perturb: float = 0.0, scan: bool = False) -> Path:
+    """``data/<task>``, with ``-scan`` for a scanning expert and ``-perturb<P>`` for
+    recovery data."""
+    name = task + ("-scan" if scans(task, scan) else "") + (f"-perturb{perturb!r}" if perturb else "")
+    return root / "data" / name
+
+
+def collect_data(root: Path, scale: Scale, workers: int, perturb: float = 0.0, scan: bool = False) -> dict[str, Path]:
     folders = {}
     for index, task in enumerate(TRAIN_TASKS):
-        folder = data_folder(root, task, perturb)
-        command = collect_command(task, index, scale.large, folder, scale, workers, perturb)
+        folder = data_folder(root, task, perturb, scan)
+        command = collect_command(task, index, scale.large, folder, scale, workers, perturb, scan)
         log(" ".join(["legent-gym", *command[3:]]))
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:
@@ -326,8 +342,9 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 
 
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
-        perturb: float = 0.0) -> dict:
-    """The whole table; ``perturb``: recovery data (see the module docstring)."""
+        perturb: float = 0.0, scan: bool = False) -> dict:
+    """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
+    look around first (see the module docstring)."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
@@ -343,7 +360,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
 
     log(f"scale {scale_name}: {asdict(scale)}; output {out}")
     t = time.monotonic()
-    folders = collect_data(out, scale, workers, perturb)
+    folders = collect_data(out, scale, workers, perturb, scan)
     times["data"] = time.monotonic() - t
 
     t = time.monotonic()
@@ -361,7 +378,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     overlap = len(eval_houses & data_house_seeds(folders, scale.large))
     times["total"] = time.monotonic() - started
     extra = {"workers": workers, "eval_seeds": [eval_seed, eval_seed + episodes - 1],
-             "perturb": perturb,
+             "perturb": perturb, "scan": scan,
              "data_seeds": {t: DATA_SEED + i * DATA_SEED_STRIDE for i, t in enumerate(TRAIN_TASKS)},
              "house_overlap_eval_vs_data": overlap, "wall_seconds": {k: round(v, 1) for k, v in times.items()},
              "training": {name: {"config": runs[name].to_dict(), "metrics": metrics[name]} for name in runs},
@@ -383,6 +400,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--eval-seed", type=int, default=0, help="episode i of every task resets with seed S + i")
     p.add_argument("--perturb", type=float, default=0.0,
                    help="recovery data: per step, the probability of a random move/turn labelled by the expert")
+    p.add_argument("--scan", action="store_true",
+                   help="Where Is demonstrations from an expert that looks around until the object is in view")
     p.add_argument("--redraw", action="store_true", help="only rewrite the tables from OUT/results.json")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
@@ -390,7 +409,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.redraw:
             redraw(out)
             return 0
-        run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb)
+        run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2

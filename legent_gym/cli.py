@@ -142,7 +142,8 @@ def cmd_collect(args) -> int:
     formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
     config = CollectConfig(args.env_id, args.episodes, args.out, formats=formats, workers=args.workers,
                            seed=args.seed, env_kwargs=env_kwargs, policy=args.policy, window=args.window,
-                           dataset_id=args.dataset_id, max_attempts=args.max_attempts, perturb=args.perturb)
+                           dataset_id=args.dataset_id, max_attempts=args.max_attempts, perturb=args.perturb,
+                           find_strategy=args.find_strategy)
     print(describe(collect(config, show_progress=not args.quiet)))
     return 0
 
@@ -205,6 +206,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--perturb", type=float, default=0.0,
                    help="recovery data: per step, the probability of executing a random move/turn in place "
                         "of the policy's action; the step is labelled with the expert's action (LEGENT format)")
+    p.add_argument("--find-strategy", default="direct",
+                   help="how the expert's find(a) looks for an object out of view: 'direct' (LEGENT's: straight "
+                        "to it) or 'scan' (turn right in place until it is in view, then as direct)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_collect)
     return parser

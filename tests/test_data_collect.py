@@ -152,3 +152,23 @@ def test_perturbed_collection_depends_on_the_seed_alone_and_keeps_the_labels(tmp
         collect(replace(one, perturb=0.0), show_progress=False)
     with pytest.raises(CollectError, match="--perturb"):
         collect(replace(one, out=str(tmp_path / "bad"), perturb=1.0), show_progress=False)
+
+
+def test_scan_collection_records_the_looking_expert(tmp_path):
+    """``--find-strategy scan``: Where Is demonstrations whose turns before the answer are
+    the scan's fixed looks; the strategy is part of what a resumed run must share."""
+    out = tmp_path / "scan"
+    assert main(["collect", "Legent/WhereIs-OneRoom-v0", "--episodes", "3", "--out", str(out), "--format",
+                 "legent", "--width", "32", "--height", "32", "--quiet", "--find-strategy", "scan"]) == 0
+    trajectories = load_trajectories(out / "legent")
+    assert len(trajectories) == 3 and all(t["success"] for t in trajectories)
+    for t in trajectories:
+        actions = [s["action"] for s in t["interactions"][1]["trajectory"]]
+        assert actions[-1].startswith("speak(")
+        assert all(a.startswith("rotate_right(60)") for a in actions[:-1]), actions
+    config = CollectConfig("Legent/WhereIs-OneRoom-v0", 3, str(out), formats=("legent",),
+                           env_kwargs={"width": 32, "height": 32})
+    with pytest.raises(CollectError, match="find_strategy"):
+        collect(config, show_progress=False)  # the same folder, the direct expert: refused
+    assert main(["collect", "Legent/WhereIs-OneRoom-v0", "--episodes", "1", "--out", str(tmp_path / "bad"),
+                 "--find-strategy", "wander", "--quiet"]) != 0

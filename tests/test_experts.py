@@ -16,7 +16,14 @@ import numpy as np
 import pytest
 
 import legent_gym  # noqa: F401
-from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight, parse_actions
+from legent_gym.agent.actions import (
+    MoveForward,
+    RotateDown,
+    RotateRight,
+    Speak,
+    format_actions,
+    parse_actions,
+)
 from legent_gym.envs.action_spaces import dict_to_actions
 from legent_gym.experts import Expert
 from legent_gym.tasks.feasibility import PLAN_BUDGET, merge_corners, stand_leg, user_leg, walk_leg
@@ -179,3 +186,47 @@ def test_expert_acceptance_every_env_200_seeds():
     for task, lengths in by_task.items():
         print(f"{task:10s} mean {statistics.fmean(lengths):.2f} max {max(lengths)} actions")
     assert not failures, [(r["env_id"], r["action_type"], r["seed"], r["problem"], r["last"]) for r in failures]
+
+
+def _is_scan_look(step) -> bool:
+    """A look of a scan: a 60-degree right turn, perhaps with the tilt to the scan's pitch."""
+    turns = [p.degrees for p in step if isinstance(p, RotateRight)]
+    return turns == [60.0] and all(isinstance(p, RotateRight | RotateDown) for p in step)
+
+
+@pytest.mark.parametrize("env_id", ["Legent/WhereIs-OneRoom-v0", "Legent/WhereIs-TwoRoom-v0"])
+def test_scan_finds_by_looking_around_before_turning_to_what_it_cannot_see(env_id):
+    # The "scan" expert turns right in fixed looks while the object is out of view, and
+    # walks or turns towards it (knowing where it is) only after a whole turn did not show
+    # it; the "direct" one (LEGENT's) turns straight at it. Both answer correctly.
+    env = gym.make(env_id, width=32, height=32)
+    scan, direct = Expert(env, find_strategy="scan"), Expert(env, find_strategy="direct")
+    oracle = scan.oracle  # the privileged view the experts read
+    blind = {"scan": 0, "direct": 0}  # steps before the object was first in view that are not scan looks
+    for seed in range(8):
+        for name, expert in (("scan", scan), ("direct", direct)):
+            env.reset(seed=seed)
+            target = oracle.goal.target
+            looks, seen_yet = 0, False
+            for _ in range(25):
+                seen_yet = seen_yet or oracle.is_visible(target)
+                step = expert.step()
+                if not seen_yet and not isinstance(step[0], Speak):
+                    if _is_scan_look(step):
+                        looks += 1
+                    else:
+                        blind[name] += 1
+                        if name == "scan":
+                            assert looks == 5, f"seed {seed}: {step} after {looks} looks, not a whole turn"
+                _, _, terminated, truncated, info = env.step(format_actions(step))
+                if terminated or truncated:
+                    break
+            assert info["success"], (env_id, name, seed)
+    assert blind["direct"] > 0  # the comparison can fail: direct does turn blindly
+    assert blind["scan"] < blind["direct"]
+
+
+def test_unknown_find_strategy_is_refused_by_name():
+    env = gym.make("Legent/WhereIs-OneRoom-v0", width=32, height=32)
+    with pytest.raises(ValueError, match="find_strategy must be one of .*'wander'"):
+        Expert(env, find_strategy="wander")

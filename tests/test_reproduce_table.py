@@ -102,3 +102,14 @@ def test_recovery_data_has_its_own_folders_and_collect_flag(tmp_path):
     perturbed = collect_command("ComeHere-OneRoom", 0, 5, folder, scale, 1, perturb=0.25)
     assert perturbed[-2:] == ["--perturb", "0.25"] and perturbed[:-2] == clean[:clean.index("--out") + 1] + [
         str(folder)] + clean[clean.index("--out") + 2:]
+
+
+def test_scan_changes_only_the_where_is_data(tmp_path):
+    scale = SCALES["small"]
+    come = data_folder(tmp_path, "ComeHere-OneRoom", scan=True)
+    assert come == tmp_path / "data" / "ComeHere-OneRoom"  # Come Here calls no find(): the same data
+    assert "--find-strategy" not in collect_command("ComeHere-OneRoom", 0, 5, come, scale, 1, scan=True)
+    where = data_folder(tmp_path, "WhereIs-OneRoom", 0.25, scan=True)
+    assert where == tmp_path / "data" / "WhereIs-OneRoom-scan-perturb0.25"
+    command = collect_command("WhereIs-OneRoom", 2, 5, where, scale, 1, perturb=0.25, scan=True)
+    assert command[-4:] == ["--perturb", "0.25", "--find-strategy", "scan"]

@@ -37,6 +37,7 @@ from typing import Any
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text
 from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
 from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
+from legent_gym.experts.planners import FIND_STRATEGIES
 
 FORMATS = ("minari", "legent", "video")
 PROGRESS_FILE = "progress.json"
@@ -69,6 +70,9 @@ class CollectConfig:
     #: Recovery data: the probability per step of executing a random perturbation in place
     #: of the policy's action, labelled with the expert's (see ``record_episode``).
     perturb: float = 0.0
+    #: How the expert's ``find(a)`` looks for an object out of view: ``"direct"`` (LEGENT's)
+    #: or ``"scan"`` (look around in place first; see ``legent_gym.experts.planners``).
+    find_strategy: str = "direct"
 
     def resolved_dataset_id(self) -> str:
         if self.dataset_id:
@@ -84,6 +88,8 @@ class CollectConfig:
                     "dataset_id": self.resolved_dataset_id()}
         if self.perturb:  # absent when 0: collections made before the option still resume
             identity["perturb"] = self.perturb
+        if self.find_strategy != "direct":  # likewise
+            identity["find_strategy"] = self.find_strategy
         return identity
 
     def attempt_limit(self) -> int:
@@ -134,10 +140,10 @@ class _Worker:
     """One env and one policy; encodes images and video where it runs (in parallel)."""
 
     def __init__(self, env_id: str, env_kwargs: dict, policy: str | Callable, formats: tuple[str, ...],
-                 perturb: float = 0.0):
+                 perturb: float = 0.0, find_strategy: str = "direct"):
         self.env_id, self.formats, self.perturb = env_id, formats, perturb
         # Every policy sees info["expert_action"] (a noisy expert or DAgger-style mixing needs it).
-        self.env = make_env(env_id, env_kwargs, expert=True)
+        self.env = make_env(env_id, env_kwargs, expert=True, find_strategy=find_strategy)
         self.policy = resolve_policy(policy) if isinstance(policy, str) else policy
 
     def run(self, attempt: int, seed: int) -> AttemptResult:
@@ -187,7 +193,8 @@ def _run_attempt(attempt: int, seed: int) -> AttemptResult:
 
 def _attempt_results(config: CollectConfig, policy, start: int, limit: int) -> Iterator[AttemptResult]:
     """Results of attempts ``start, start + 1, ...`` in order (computed ahead in parallel)."""
-    worker_args = (config.env_id, config.env_kwargs, policy, tuple(config.formats), config.perturb)
+    worker_args = (config.env_id, config.env_kwargs, policy, tuple(config.formats), config.perturb,
+                   config.find_strategy)
     if config.workers == 1:
         worker = _Worker(*worker_args)
         try:
@@ -228,6 +235,8 @@ def _check(config: CollectConfig, policy: Callable | None) -> None:
         raise CollectError(f"--perturb must be in [0, 1), got {config.perturb}")
     if config.perturb and config.env_kwargs.get("action_type", "text") != "text":
         raise CollectError("--perturb needs text actions (the labels are action code)")
+    if config.find_strategy not in FIND_STRATEGIES:
+        raise CollectError(f"--find-strategy must be one of {', '.join(FIND_STRATEGIES)}, got {config.find_strategy!r}")
     unknown = sorted(set(config.formats) - set(FORMATS))
     if unknown or not config.formats:
         raise CollectError(f"unknown format(s) {', '.join(unknown) or '(none given)'}; "
@@ -272,7 +281,10 @@ def _load_progress(out: Path, config: CollectConfig) -> _Progress | None:
     if saved.get("version") != PROGRESS_VERSION:
         raise CollectError(f"{path} was written by another version of legent-gym collect")
     if saved["config"] != config.identity():
-        diff = {k: (saved["config"].get(k), v) for k, v in config.identity().items() if saved["config"].get(k) != v}
+        now = config.identity()
+        # Over both key sets: an option left at its default is absent from one of them.
+        diff = {k: (saved["config"].get(k), now.get(k)) for k in {**saved["config"], **now}
+                if saved["config"].get(k) != now.get(k)}
         raise CollectError(f"{out} holds a collection made with other options "
                            f"({', '.join(f'{k}: was {a!r}, now {b!r}' for k, (a, b) in diff.items())}); "
                            "resume with the same options or use a new --out")

@@ -48,13 +48,15 @@ def resolve_policy(name: str) -> Policy:
     return policy
 
 
-def make_env(env_id: str, env_kwargs: dict[str, Any] | None = None, *, expert: bool = False) -> gym.Env:
-    """``gym.make(env_id, **env_kwargs)``, wrapped in ``ExpertInfo`` when the expert plays."""
+def make_env(env_id: str, env_kwargs: dict[str, Any] | None = None, *, expert: bool = False,
+             find_strategy: str = "direct") -> gym.Env:
+    """``gym.make(env_id, **env_kwargs)``, wrapped in ``ExpertInfo`` (with the expert's
+    ``find_strategy``) when the expert plays."""
     env = gym.make(env_id, **(env_kwargs or {}))
     if expert:
         from legent_gym.wrappers.expert import ExpertInfo
 
-        env = ExpertInfo(env)
+        env = ExpertInfo(env, find_strategy)
     return env
 
 

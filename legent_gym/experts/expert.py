@@ -121,11 +121,15 @@ class Expert(_ActionSpaceMixin):
 
     Args:
         env: a Legent env (or a wrapper of one). The expert follows the env across resets.
+        find_strategy: how ``find(a)`` proceeds while ``a`` is out of view: ``"direct"``
+            (LEGENT's: turn and walk straight to it, knowing where it is) or ``"scan"``
+            (look around in place first, turning right until it is in view), whose
+            demonstrations never turn towards what the image does not show.
     """
 
-    def __init__(self, env):
+    def __init__(self, env, find_strategy: str = "direct"):
         self.oracle = Oracle(env)
-        self.planner = Planner(self.oracle)
+        self.planner = Planner(self.oracle, find_strategy)
         #: Why the last call could not plan (None when it could): then the action is finish().
         self.problem: str | None = None
 

@@ -17,12 +17,20 @@ success test); ``goto(a)`` before ``target(a)``, and ``target(a)`` itself, stand
 view ray meets ``a`` within reach (holding something: a free spot of ``a``'s surface);
 ``find(a)`` walks until ``a`` is within 3 m and in sight. A stand that does not serve on
 arrival (arrival is never exact) is dropped and the next nearest one is taken.
+
+``find(a)`` has two strategies. ``"direct"`` (LEGENT's) turns and walks straight to ``a``
+even while it is out of view: the planner knows where it is. ``"scan"`` first looks
+around where the agent stands, turning right by ``SCAN_TURN`` degrees until ``a`` is in
+view, and only walks (as ``"direct"``) when a whole turn did not show it. Its turns are
+ones a policy can learn from the image alone; a policy cloned from ``"direct"`` learns to
+turn blindly and to answer before it sees the object (docs/results.md).
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from typing import NamedTuple
 
 import numpy as np
 
@@ -37,6 +45,9 @@ ARRIVED = 0.05  # metres left on a path that count as arrived
 AIM_EPSILON = 0.01  # metres of reach an aim keeps in hand against rounding
 DETOUR_STEP = 0.3  # metres walked sideways when the straight move is blocked
 STAND_RETRIES = 3  # stands tried in a row on arrival before giving up
+SCAN_TURN = 60.0  # degrees turned right per look of a scan: the 90-degree views overlap by 30
+SCAN_PITCH = 20.0  # degrees down a scan looks: objects stand on furniture below the eye
+FIND_STRATEGIES = ("direct", "scan")
 
 #: A function of a standing point (x, y) giving the (yaw, pitch) to look at from there.
 Look = Callable[[Sequence[float]], "tuple[float, float] | None"]
@@ -56,14 +67,31 @@ def _heading(a: Sequence[float], b: Sequence[float]) -> float:
     return math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))
 
 
-class Planner:
-    """Plans for one env's agent, through an :class:`Oracle`."""
+class _Scan(NamedTuple):
+    """A look around in place for an object: where it started and whether it went full circle."""
 
-    def __init__(self, oracle: Oracle):
+    key: tuple  # (episode key, object id)
+    here: tuple[float, float]
+    start_yaw: float
+    complete: bool = False
+
+
+class Planner:
+    """Plans for one env's agent, through an :class:`Oracle`.
+
+    ``find_strategy``: how ``find(a)`` proceeds while ``a`` is out of view, ``"direct"``
+    (turn and walk straight to it, LEGENT's) or ``"scan"`` (look around first); see the
+    module docstring."""
+
+    def __init__(self, oracle: Oracle, find_strategy: str = "direct"):
+        if find_strategy not in FIND_STRATEGIES:
+            raise ValueError(f"find_strategy must be one of {FIND_STRATEGIES}, got {find_strategy!r}")
         self.oracle = oracle
+        self.find_strategy = find_strategy
         self._stands: dict[tuple, tuple[float, float]] = {}
         self._bad_stands: set[tuple] = set()
         self._detour: tuple | None = None
+        self._scan: _Scan | None = None
 
     # -- primitives, rounded as they will be written -------------------------------------------
     def _turn(self, left_degrees: float) -> RotateRight | None:
@@ -331,9 +359,38 @@ class Planner:
         raise PlanningError(f"object {object_id} ({o.name_of(object_id)}) cannot be aimed at "
                             "from its standing points")
 
-    def find(self, object_id: int) -> tuple | None:
-        """Walk until the object is within 3 m and in sight, then look at it."""
+    def _scan_step(self, object_id: int) -> tuple | None:
+        """The next look of a scan for the object from where the agent stands, or None when
+        a whole turn from here (or, once one went full circle, from anywhere) did not show it.
+
+        The scan's progress is read from the pose (how far right the head has turned since
+        the scan began), not counted, so that actions the expert did not choose (another
+        policy's, a perturbation) cannot throw it off; a move before it went full circle
+        starts it again from the new place."""
         o = self.oracle
+        pose = o.pose
+        key = (o.episode_key, object_id)
+        here = (round(float(pose.x), 2), round(float(pose.y), 2))
+        scan = self._scan
+        if scan is None or scan.key != key or (scan.here != here and not scan.complete):
+            scan = self._scan = _Scan(key, here, float(pose.yaw))
+        if scan.complete:
+            return None
+        turned = (scan.start_yaw - pose.yaw) % 360.0  # yaw grows to the left
+        if turned + SCAN_TURN > 360.0 - SCAN_TURN / 2:  # the next look would repeat the first
+            self._scan = scan._replace(complete=True)
+            return None
+        tilt = self._tilt(SCAN_PITCH - pose.pitch) if abs(SCAN_PITCH - pose.pitch) > 0.5 else None
+        return self._step(RotateRight(SCAN_TURN), tilt)
+
+    def find(self, object_id: int) -> tuple | None:
+        """Walk until the object is within 3 m and in sight, then look at it (with the
+        ``"scan"`` strategy: look around in place first, while it is out of view)."""
+        o = self.oracle
+        if self.find_strategy == "scan" and not o.is_visible(object_id):
+            step = self._scan_step(object_id)
+            if step is not None:
+                return step
         for _ in range(STAND_RETRIES):
             seen = o.seen_point(object_id, o.eye, FIND_DISTANCE)
             if seen is not None:

@@ -22,11 +22,13 @@ from legent_gym.experts.expert import Expert
 
 
 class ExpertInfo(gym.Wrapper):
-    """Adds ``info["expert_action"]`` (and ``info["expert_problem"]``) at reset and every step."""
+    """Adds ``info["expert_action"]`` (and ``info["expert_problem"]``) at reset and every step.
 
-    def __init__(self, env: gym.Env):
+    ``find_strategy``: passed to :class:`~legent_gym.experts.expert.Expert`."""
+
+    def __init__(self, env: gym.Env, find_strategy: str = "direct"):
         super().__init__(env)
-        self.expert = Expert(env)
+        self.expert = Expert(env, find_strategy)
 
     def _label(self, info: dict[str, Any]) -> dict[str, Any]:
         info = dict(info)
