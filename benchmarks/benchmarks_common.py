@@ -31,3 +31,28 @@ def place_agent_camera(world, x: float, y: float, yaw: float, pitch: float = 0.0
     world.set_body_pose("agent", x, y, yaw, pitch)
     mujoco.mj_kinematics(world.model, world.data)
     mujoco.mj_camlight(world.model, world.data)
+
+
+class StockRender:
+    """The reference of the speed ratios: MuJoCo's own ``mujoco.Renderer`` drawing a legent
+    renderer's view (same model, options, camera and flags: the same image, checked at
+    construction), with nothing of ours in between."""
+
+    def __init__(self, renderer, camera: str = "agent"):
+        import mujoco
+        import numpy as np
+
+        option, self.camera, flags = renderer.mujoco_settings(camera)
+        self.option = option
+        self.data = renderer.world.data
+        self.stock = mujoco.Renderer(renderer.world.model, renderer.height, renderer.width)
+        self.stock.scene.flags[:] = flags
+        if not np.array_equal(self.rgb(), renderer.rgb(camera)):
+            raise RuntimeError("mujoco.Renderer draws another image than legent's renderer: not a fair reference")
+
+    def rgb(self):
+        self.stock.update_scene(self.data, self.camera, self.option)
+        return self.stock.render()
+
+    def close(self) -> None:
+        self.stock.close()

@@ -296,3 +296,37 @@ def test_camera_pitch_looks_down_with_the_image_upright(yaw):
     assert depth[16, 16] == pytest.approx(height / math.sin(math.radians(45)), rel=0.03)
     assert depth[2, 16] > depth[16, 16] > depth[30, 16]
     assert depth[16, 2] == pytest.approx(depth[16, 30], rel=0.02)  # level: left and right alike
+
+
+def test_frames_match_mujocos_own_renderer_whatever_else_draws_in_between(two_room):
+    """A frame sets only what changed since the last (the current GL context, the bound
+    framebuffer, the camera). Interleaved with MuJoCo's stock renderer (its own GL
+    context), another of our renderers (its own framebuffer) and other cameras, every
+    image still equals the one MuJoCo's own ``mujoco.Renderer`` draws with the same
+    settings, and the one a fresh renderer draws."""
+    world, other_world = build_world(two_room), build_world(two_room)
+    ours, other = Renderer(world, 64, 48), Renderer(other_world, 32, 32)
+    option, camera, flags = ours.mujoco_settings("agent")
+    stock = mujoco.Renderer(world.model, 48, 64)
+    stock.scene.flags[:] = flags
+
+    def stock_rgb():
+        stock.update_scene(world.data, camera, option)
+        return stock.render()
+
+    views = []
+    for yaw in (0.0, 70.0, 140.0):
+        world.set_body_pose("agent", 2.0, 2.0, yaw, 10.0)
+        mujoco.mj_kinematics(world.model, world.data)
+        mujoco.mj_camlight(world.model, world.data)
+        expected = stock_rgb()  # the stock renderer's context is current now
+        assert np.array_equal(ours.rgb("agent"), expected)
+        other.rgb("agent")  # our other renderer binds its own framebuffer
+        assert np.array_equal(ours.rgb("agent"), expected)
+        ours.rgb("topdown"), ours.depth("agent")  # another camera, segmentation mode
+        assert np.array_equal(ours.rgb("agent"), expected)
+        views.append(expected)
+    assert not np.array_equal(views[0], views[1])  # the poses do show different views
+    fresh = Renderer(world, 64, 48)
+    assert np.array_equal(fresh.rgb("agent"), views[-1])
+    stock.close()

@@ -97,19 +97,25 @@ class World:
     derived: dict[object, object] = field(default_factory=dict, init=False, repr=False, compare=False)
     #: avatar name -> (body mocap id, head mocap id): looked up once, used every step.
     _mocap_ids: dict[str, tuple[int, int]] = field(default_factory=dict, init=False, repr=False, compare=False)
+    #: (data.mocap_pos, data.mocap_quat): views of the data's memory, made on first use.
+    _mocap_views: tuple[np.ndarray, np.ndarray] | None = field(default=None, init=False, repr=False, compare=False)
 
     # -- poses of the kinematic bodies ---------------------------------------------------
     def set_body_pose(self, name: str, x: float, y: float, yaw_deg: float, pitch_deg: float = 0.0) -> None:
         """Place an avatar (``agent``/``user``) and its head camera. yaw 0 looks along +x."""
         body, head = self.avatar_mocap_ids(name)
         opts = self.options.agent if name == "agent" else self.options.user
-        data = self.data
-        data.mocap_pos[body] = (x, y, 0.0)
+        # Each read of data.mocap_pos makes a new array view: read them once per world.
+        views = self._mocap_views
+        if views is None:
+            views = self._mocap_views = (self.data.mocap_pos, self.data.mocap_quat)
+        pos, quat = views
+        pos[body] = (x, y, 0.0)
         half = math.radians(yaw_deg) / 2
-        data.mocap_quat[body] = (math.cos(half), 0.0, 0.0, math.sin(half))  # yaw_quat's values
-        data.mocap_pos[head] = (x, y, opts.camera_height)
+        quat[body] = (math.cos(half), 0.0, 0.0, math.sin(half))  # yaw_quat's values
+        pos[head] = (x, y, opts.camera_height)
         # camera_quat's arithmetic, written straight into the mocap quaternion.
-        mujoco.mju_mat2Quat(data.mocap_quat[head], _camera_matrix(yaw_deg, pitch_deg))
+        mujoco.mju_mat2Quat(quat[head], _camera_matrix(yaw_deg, pitch_deg))
 
     def avatar_mocap_ids(self, name: str) -> tuple[int, int]:
         """(body, head) mocap ids of an avatar (``agent``/``user``), looked up once."""

@@ -1,6 +1,6 @@
 """Rendering: egocentric RGB, depth and instance segmentation, top-down and free views.
 
-Speed on a CPU (Mesa llvmpipe through EGL) comes from four choices, measured in
+Speed on a CPU (Mesa llvmpipe through EGL) comes from five choices, measured in
 ``benchmarks/render.py``:
 
 * one OpenGL context per process, shared by every renderer (creating one costs hundreds of
@@ -9,13 +9,17 @@ Speed on a CPU (Mesa llvmpipe through EGL) comes from four choices, measured in
   the size of the image;
 * the builder's merged, palette-coloured meshes (few draw calls, few triangles);
 * the renderer is created lazily, on the first frame, so that environments can be
-  pickled and forked before any OpenGL exists.
+  pickled and forked before any OpenGL exists;
+* a frame sets only what changed since the last one: the context is made current, the
+  renderer's framebuffer bound and the camera set up only when they are not already (at
+  96 px these calls cost as much as a tenth of the render itself).
 
 Every call returns a new array (Gymnasium's checker requires it).
 """
 
 from __future__ import annotations
 
+import copy
 import threading
 from dataclasses import dataclass
 from typing import Literal
@@ -61,8 +65,31 @@ def _shared_gl_context(width: int, height: int):
             raise RuntimeError("no OpenGL backend: set MUJOCO_GL to egl or osmesa on a headless machine")
         ctx = gl_context.GLContext(max(width, 64), max(height, 64))
         _local.context = ctx
-    ctx.make_current()
+        _local.is_current = _current_check(ctx)
+    if not _local.is_current():
+        ctx.make_current()
+        _local.bound = None  # another context was current: rebind our framebuffer too, to be safe
     return ctx
+
+
+def _current_check(ctx):
+    """A cheap test of whether ``ctx`` is the thread's current context: ~1 us with EGL,
+    against ~7 us for making it current again. Other backends (OSMesa, GLFW) always answer
+    no, so they make it current every frame as before. Another library (a stock
+    ``mujoco.Renderer``, a viewer) may have made its own context current in between, so
+    this asks EGL rather than remembering."""
+    egl_context = getattr(ctx, "_context", None)
+    if type(ctx).__module__ != "mujoco.egl" or egl_context is None:
+        return lambda: False
+    from OpenGL import EGL
+
+    address = egl_context.address
+
+    def is_current() -> bool:
+        current = EGL.eglGetCurrentContext()
+        return bool(current) and current.address == address
+
+    return is_current
 
 
 class Renderer:
@@ -86,6 +113,8 @@ class Renderer:
         self._option = mujoco.MjvOption()
         self._camera = mujoco.MjvCamera()
         self._perturb = mujoco.MjvPerturb()
+        self._camera_spec: CameraSpec | None = None  # what _camera and _option are set up for
+        self._segmented = False
         self._rect = mujoco.MjrRect(0, 0, self.width, self.height)
         self._rgb = np.empty((self.height, self.width, 3), dtype=np.uint8)
         self._depth = np.empty((self.height, self.width), dtype=np.float32)
@@ -96,7 +125,9 @@ class Renderer:
             _shared_gl_context(self.width, self.height)
             # Every renderer has its own framebuffer in the one GL context, and another
             # renderer may have bound its own since: bind ours, or we draw into theirs.
-            mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
+            if getattr(_local, "bound", None) is not self._context:
+                mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
+                _local.bound = self._context
             return
         _shared_gl_context(self.width, self.height)
         model = self.world.model
@@ -112,8 +143,10 @@ class Renderer:
             vis.quality.offsamples = 0
         self._context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_50)
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
+        _local.bound = self._context
         self._context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
         self._scene = mujoco.MjvScene(model, maxgeom=max(1000, model.ngeom + 100))
+        self._segmented = False  # a new scene has the default flags
         fast = self.profile == "fast"
         flags = self._scene.flags
         flags[mujoco.mjtRndFlag.mjRND_SHADOW] = not fast
@@ -129,8 +162,11 @@ class Renderer:
                 self._context.free()
             except Exception:  # the GL context may already be gone at interpreter exit
                 pass
+            if getattr(_local, "bound", None) is self._context:
+                _local.bound = None
             self._context = None
             self._scene = None
+            self._camera_spec = None
 
     def __del__(self) -> None:
         self.close()
@@ -179,13 +215,28 @@ class Renderer:
 
     def _draw(self, camera: CameraSpec, segmentation: bool = False) -> None:
         self._ensure()
-        self._setup_camera(camera)
+        # "topdown" fits the model's global fovy to the house, which another renderer of
+        # the same world may have changed: set it up every time.
+        if camera != self._camera_spec or camera == "topdown":
+            self._setup_camera(camera)
+            self._camera_spec = camera
         scn = self._scene
         mujoco.mjv_updateScene(self.world.model, self.world.data, self._option, self._perturb, self._camera,
                                mujoco.mjtCatBit.mjCAT_ALL, scn)
-        scn.flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = segmentation
-        scn.flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = segmentation
+        if segmentation != self._segmented:
+            scn.flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = segmentation
+            scn.flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = segmentation
+            self._segmented = segmentation
         mujoco.mjr_render(self._rect, scn, self._context)
+
+    def mujoco_settings(self, camera: CameraSpec = "agent") -> tuple[mujoco.MjvOption, mujoco.MjvCamera, np.ndarray]:
+        """Copies of what this renderer draws ``camera`` with: the visual option, the
+        camera and the scene's render flags. MuJoCo's own ``mujoco.Renderer`` of the same
+        model, given these, draws the same image (the benchmarks' reference)."""
+        self._ensure()
+        self._setup_camera(camera)
+        self._camera_spec = camera
+        return copy.copy(self._option), copy.copy(self._camera), self._scene.flags.copy()
 
     # -- images --------------------------------------------------------------------------
     def rgb(self, camera: CameraSpec = "agent") -> np.ndarray:
