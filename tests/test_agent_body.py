@@ -230,6 +230,6 @@ def test_the_body_cannot_leave_the_house_through_an_outside_door():
 
 
 def _point_in(polygon, xy) -> bool:
-    from legent_gym.world.builder import _point_in_polygon
+    from legent_gym.world.generation.furnish import points_in_polygon
 
-    return _point_in_polygon(tuple(xy), [tuple(v) for v in np.asarray(polygon, dtype=float)])
+    return bool(points_in_polygon(np.asarray([xy], dtype=float), np.asarray(polygon, dtype=float))[0])
