@@ -330,3 +330,16 @@ def test_frames_match_mujocos_own_renderer_whatever_else_draws_in_between(two_ro
     fresh = Renderer(world, 64, 48)
     assert np.array_equal(fresh.rgb("agent"), views[-1])
     stock.close()
+
+
+def test_a_free_camera_after_a_topdown_view_draws_as_before(two_room):
+    # "topdown" sets the model's global fovy to the house's size; a free camera uses that
+    # fovy, so it must set it back (also when another renderer drew the topdown view).
+    world = build_world(two_room)
+    free = FreeCamera((5.5, 2.5, 0.5), 8, 90, -60)
+    first, other = Renderer(world, 48, 48), Renderer(world, 48, 48)
+    before = first.rgb(free)
+    first.rgb("topdown")
+    assert np.array_equal(first.rgb(free), before)
+    other.rgb("topdown")
+    assert np.array_equal(first.rgb(free), before)

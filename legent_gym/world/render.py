@@ -52,6 +52,10 @@ class FreeCamera:
 
 CameraSpec = str | FreeCamera  # "agent", "user", "topdown", a model camera name, or a FreeCamera
 
+#: The model's global fovy (MuJoCo's default), which free cameras use: "topdown" sets it to
+#: the house's size, so a free camera must set it back.
+FREE_FOVY = 45.0
+
 _local = threading.local()
 
 
@@ -190,6 +194,7 @@ class Renderer:
             cam.lookat[:] = camera.lookat
             cam.distance, cam.azimuth, cam.elevation = camera.distance, camera.azimuth, camera.elevation
             cam.orthographic = int(camera.orthographic)
+            model.vis.global_.fovy = FREE_FOVY
             groups[GROUP_CEILING] = 0
             return
         if camera == "topdown":
@@ -215,9 +220,9 @@ class Renderer:
 
     def _draw(self, camera: CameraSpec, segmentation: bool = False) -> None:
         self._ensure()
-        # "topdown" fits the model's global fovy to the house, which another renderer of
-        # the same world may have changed: set it up every time.
-        if camera != self._camera_spec or camera == "topdown":
+        # "topdown" and free cameras set the model's global fovy, which another renderer
+        # of the same world may have changed since: set them up every time.
+        if camera != self._camera_spec or camera == "topdown" or isinstance(camera, FreeCamera):
             self._setup_camera(camera)
             self._camera_spec = camera
         scn = self._scene
