@@ -296,6 +296,8 @@ def test_bad_arguments():
         generate_house(0, "OneRoom", bogus=1)
     with pytest.raises(GenerationError, match="spaceship"):
         generate_house(0, "spaceship")
+    with pytest.raises(GenerationError, match="rooms must list room types.*n_rooms"):
+        generate_house(0, rooms=2)  # a count where the room list goes
     assert issubclass(GenerationError, ValueError)
     # None means "not given".
     assert generate_house(0, "OneRoom", require=None, n_rooms=None).to_json() == generate_house(0, "OneRoom").to_json()

@@ -343,3 +343,40 @@ def test_a_free_camera_after_a_topdown_view_draws_as_before(two_room):
     assert np.array_equal(first.rgb(free), before)
     other.rgb("topdown")
     assert np.array_equal(first.rgb(free), before)
+
+
+@pytest.mark.parametrize("seed", [3, 8])
+def test_culling_leaves_out_unseen_geoms_and_draws_the_same_pixels(seed):
+    """The agent's and user's cameras leave out geoms wholly outside their view. Over many
+    poses (wide images, looking up and down, standing by walls), every RGB and segmentation
+    image equals the one MuJoCo's own renderer draws from the full scene, and the culled
+    scene does lack geoms."""
+    from legent_gym.world.generation.house import generate_house
+
+    world = build_world(generate_house(seed, "TwoRoom"))
+    ours = Renderer(world, 80, 48)
+    stock, stock_ids = mujoco.Renderer(world.model, 48, 80), mujoco.Renderer(world.model, 48, 80)
+    stock_ids.enable_segmentation_rendering()
+    (lo_x, lo_y), (hi_x, hi_y) = world.scene.bounds()
+    rng = np.random.default_rng(seed)
+    left_out = []
+    for i in range(40):
+        camera = "agent" if i % 2 else "user"
+        body = "agent" if camera == "agent" else "user"
+        world.set_body_pose(body, rng.uniform(lo_x, hi_x), rng.uniform(lo_y, hi_y), rng.uniform(-180, 180),
+                            rng.uniform(-60, 60))
+        mujoco.mj_kinematics(world.model, world.data)
+        mujoco.mj_camlight(world.model, world.data)
+        option, cam, flags = ours.mujoco_settings(camera)
+        stock.scene.flags[:] = flags
+        stock.update_scene(world.data, cam, option)
+        full = stock.scene.ngeom
+        assert np.array_equal(ours.rgb(camera), stock.render()), f"view {i} ({camera})"
+        left_out.append(full - ours._scene.ngeom)
+        stock_ids.update_scene(world.data, cam, option)
+        ids, types = np.moveaxis(stock_ids.render(), -1, 0)
+        expected = np.where(types == mujoco.mjtObj.mjOBJ_GEOM, ids, -1)
+        assert np.array_equal(ours.geom_ids(camera), expected), f"view {i} ({camera})"
+    assert min(left_out) >= 0 and np.mean(left_out) > 5, left_out
+    stock.close()
+    stock_ids.close()

@@ -163,6 +163,9 @@ class HouseSpec(BaseModel):
     def _rooms(cls, v: Any) -> Any:
         if isinstance(v, str):
             return parse_rooms(v)
+        if v is not None and not isinstance(v, (list, tuple)):
+            raise ValueError(f"rooms must list room types ('kitchen, bedroom' or a list), got {v!r}; "
+                             "a number of rooms is n_rooms")
         return normalise_room_types(list(v)) if v is not None else None
 
     @field_validator("room_options", mode="before")
