@@ -42,8 +42,7 @@ class StockRender:
         import mujoco
         import numpy as np
 
-        option, self.camera, flags = renderer.mujoco_settings(camera)
-        self.option = option
+        self.option, self.camera, flags = renderer.mujoco_settings(camera)
         self.data = renderer.world.data
         self.stock = mujoco.Renderer(renderer.world.model, renderer.height, renderer.width)
         self.stock.scene.flags[:] = flags

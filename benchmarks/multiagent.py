@@ -8,8 +8,8 @@ render per step) and of ``HouseholdParallelEnv`` (the user acts too: two egocent
 per step), both in the house of seed 1, with random moves, turns and tilts as text actions
 (the agent's sequence is the same in both; ``--user still``: the user passes None, so
 the second render is the only extra work; ``--distance-info``: both envs measure
-``info["distance_to_goal"]`` every step, the multi-agent env's opt-in). As in ``benchmarks/step.py``, an episode that
-ends (the task done by chance) goes on in the same house: a reset would measure house
+``info["distance_to_goal"]`` every step, the multi-agent env's opt-in). As in
+``benchmarks/step.py``, an episode that ends (the task done by chance) goes on in the same house: a reset would measure house
 generation, not stepping. The two are timed in alternating chunks of 50 steps (a busy
 machine slows both alike), ``--repeats`` rounds; the table gives the medians and the ratio
 of the medians (the target

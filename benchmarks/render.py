@@ -22,6 +22,8 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
 
 from benchmarks_common import StockRender, median_ms, pin_to_one_core, place_agent_camera
@@ -35,9 +37,9 @@ REPO = Path(__file__).resolve().parents[1]
 DEFAULT_SCENE = REPO / "examples" / "scenes" / "two_room_furnished.json"
 
 
-def frames_per_second(renderer: Renderer | StockRender, world, frames: int, yaw_step: float = 7.0) -> float:
-    """Render while turning the agent (so views change as in an episode)."""
-    draw = renderer.rgb if isinstance(renderer, StockRender) else lambda: renderer.rgb("agent")
+def frames_per_second(draw: Callable[[], object], world, frames: int, yaw_step: float = 7.0) -> float:
+    """``draw()`` the agent's view of ``world`` while turning the agent (so views change
+    as in an episode)."""
     x, y = world.scene.agent.position
     for i in range(20):  # warm-up
         place_agent_camera(world, x, y, i * yaw_step)
@@ -75,10 +77,10 @@ def main(argv=None) -> int:
 
     print(f"\n{'size':>6} {'ours fps':>10} {'stock fps':>10} {'ratio':>7} {'naive fps':>10} {'ratio':>7}")
     for size in (int(s) for s in args.sizes.split(",")):
-        renderer = Renderer(fast_world, size, size, "fast")
-        ours = frames_per_second(renderer, fast_world, args.frames)
-        stock = frames_per_second(StockRender(renderer), fast_world, args.frames)
-        naive = frames_per_second(NaiveRenderer(naive_world, size), naive_world, max(args.frames // 10, 30))
+        renderer, naive_renderer = Renderer(fast_world, size, size, "fast"), NaiveRenderer(naive_world, size)
+        ours = frames_per_second(partial(renderer.rgb, "agent"), fast_world, args.frames)
+        stock = frames_per_second(StockRender(renderer).rgb, fast_world, args.frames)
+        naive = frames_per_second(partial(naive_renderer.rgb, "agent"), naive_world, max(args.frames // 10, 30))
         print(f"{size:>6} {ours:>10.0f} {stock:>10.0f} {ours / stock:>6.2f}x {naive:>10.0f} {ours / naive:>6.1f}x")
     print(f"\nbuild (scene -> compiled model): {build_ms:.1f} ms median")
     print(f"renderer creation for a new scene (GL context reused): {create_ms:.1f} ms median")

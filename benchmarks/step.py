@@ -5,9 +5,10 @@
 For each env id, on one core: steps/s with random actions (a random move, turn and tilt
 each step, as text actions), the raw render rate of the same house measured in the same
 run (the agent camera put at each pose the steps produced and rendered by MuJoCo's own
-``mujoco.Renderer`` with the env renderer's options, the same image: the floor for a step's
-cost, with nothing of ours in it), their ratio, and the median time of a reset with a new
-house (generation + build + navigation grid + task + first frame).
+``mujoco.Renderer`` with the env renderer's options, the same image, with nothing of ours
+in it; our renderer leaves out unseen geoms, so a step can cost less), their ratio, and the
+median time of a reset with a new house (generation + build + navigation grid + task +
+first frame).
 
 Steps and raw renders are timed in alternating blocks of ``--block`` steps, each block of
 renders replaying the poses of the block of steps just before it, so that other load on a

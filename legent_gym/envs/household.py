@@ -91,8 +91,8 @@ class HouseholdEnv(gym.Env):
     Privileged state is in ``info`` (for rewards, experts and analysis, not for policies):
     ``agent_pose`` (x, y, yaw, pitch), ``user_pose``, ``held`` (object id or None),
     ``task`` (goal ids), ``success``, ``distance_to_goal`` (geodesic metres to the current
-    sub-goal; None with ``distance_info=False``), ``action_text`` (the step as action code), ``action_results`` (one entry per
-    primitive: ``ok`` and ``reason``), ``action_error`` (only on unparsable actions),
+    sub-goal; None with ``distance_info=False``), ``action_text`` (the step as action code),
+    ``action_results`` (one entry per primitive: ``ok`` and ``reason``), ``action_error`` (only on unparsable actions),
     ``house_seed``, ``scene_name``, ``n_actions``.
 
     ## Rewards

@@ -110,8 +110,8 @@ class HouseholdParallelEnv(ParallelEnv):
 
     ## Arguments
     ``task``, ``layout``, ``action_type``, ``max_cycles``, ``rewards``,
-    ``instruction_from_user``, ``distance_info`` (default False, see Info), ``render_mode`` (``"rgb_array"``: a third-person view of
-    both), ``render_size``; every other keyword goes to ``HouseholdEnv`` (``width``,
+    ``instruction_from_user``, ``distance_info`` (default False, see Info), ``render_mode``
+    (``"rgb_array"``: a third-person view of both), ``render_size``; every other keyword goes to ``HouseholdEnv`` (``width``,
     ``height``, ``fovy``, ``camera``, ``reward``, ``scene``, ``house_seed``, ``house_pool``,
     ``depth``, ``segmentation``, ``strict``, ``reach``, ...). The user's camera takes the
     agent's field of view.

@@ -13,9 +13,9 @@ Speed on a CPU (Mesa llvmpipe through EGL) comes from six choices, measured in
 * a frame sets only what changed since the last one: the context is made current, the
   renderer's framebuffer bound and the camera set up only when they are not already (at
   96 px these calls cost as much as a tenth of the render itself);
-* the agent's and user's cameras leave out the geoms wholly outside their view
-  (:mod:`legent_gym.world.culling`): the same pixels for about a fifth less time, since
-  llvmpipe pays for every geom sent to it, in view or not.
+* fixed cameras (the agent's, the user's) leave out the geoms wholly outside their view
+  (:mod:`legent_gym.world.culling`): the same pixels for about a quarter less time at
+  96 px, since llvmpipe pays for every geom sent to it, in view or not.
 
 Every call returns a new array (Gymnasium's checker requires it).
 """
