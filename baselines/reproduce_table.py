@@ -36,6 +36,13 @@ the paper's protocol): recovery data. The training sets are collected with ``leg
 expert looks around in place (right turns of 60 degrees) until the object is in view
 before it answers, instead of turning straight to an object the image does not show yet.
 The data goes to ``data/WhereIs-OneRoom-scan`` (with ``-perturb<P>`` after it).
+
+``--dagger`` (beyond the paper) adds a row: one DAgger round on each Sep model of the large
+amount (:mod:`baselines.vla.dagger`). The model drives ``Scale.dagger`` rollouts of its
+training task (seeds ``20,000,000 + i * 1,000,000 + k``, disjoint from the data and the
+evaluation), the expert labels every state it reached, and a model is trained from scratch
+on the large set plus these rollouts (``models/sep<N>-<task>-dagger``). The rollouts go to
+``data/<task>-dagger-from-sep<N>``.
 """
 
 from __future__ import annotations
@@ -69,6 +76,8 @@ SEP_MODEL_FOR = {"ComeHere-OneRoom": "ComeHere-OneRoom", "ComeHere-TwoRoom": "Co
                  "WhereIs-OneRoom": "WhereIs-OneRoom", "WhereIs-TwoRoom": "WhereIs-OneRoom"}
 #: Collection seeds: attempt k of task i resets with DATA_SEED + i * DATA_SEED_STRIDE + k.
 DATA_SEED, DATA_SEED_STRIDE = 10_000_000, 1_000_000
+#: DAgger rollout seeds: rollout k on task i resets with DAGGER_SEED + i * DATA_SEED_STRIDE + k.
+DAGGER_SEED = 20_000_000
 COLUMNS = ("Come Here, one room", "Come Here, two rooms", "Where Is, one room", "Where Is, two rooms*")
 
 #: The paper's Table 3 (success rates on 100 episodes per task).
@@ -90,13 +99,18 @@ class Scale:
     episodes: int         # evaluation episodes per task and row
     d_model: int = 128
     layers: int = 3
+    dagger: int = 0       # DAgger rollouts per task (``--dagger``); 0: the large amount / 5
+
+    @property
+    def dagger_rollouts(self) -> int:
+        return self.dagger or max(1, self.large // 5)
 
 
 SCALES = {
     # CI (the default test suite runs it): every phase, under a minute on 2 cores; the
     # numbers mean nothing.
     "small": Scale(image_size=48, small=10, large=20, epochs_small=3, epochs_large=3, episodes=10, d_model=64,
-                   layers=2),
+                   layers=2, dagger=6),
     # The paper's data / 10: 12 minutes on the shared 2-core machine.
     "medium": Scale(image_size=64, small=100, large=1000, epochs_small=40, epochs_large=15, episodes=100),
     # The paper's 1K, and 3K in place of its 10K: 21 minutes on the shared 2-core machine
@@ -179,6 +193,45 @@ def training_runs(root: Path, folders: dict[str, Path], scale: Scale) -> dict[st
     return runs
 
 
+def dagger_folder(root: Path, task: str, scale: Scale) -> Path:
+    return root / "data" / f"{task}-dagger-from-sep{scale.large}"
+
+
+def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = False) -> dict[str, Path]:
+    """One DAgger round per training task: the large Sep model drives, the expert labels."""
+    from baselines.vla.dagger import DaggerConfig, collect_dagger
+
+    folders = {}
+    for index, task in enumerate(TRAIN_TASKS):
+        folder = dagger_folder(root, task, scale)
+        config = DaggerConfig(str(root / "models" / f"sep{scale.large}-{task}" / FINAL), f"Legent/{task}-v0",
+                              str(folder), scale.dagger_rollouts, DAGGER_SEED + index * DATA_SEED_STRIDE,
+                              workers, "scan" if scans(task, scan) else "direct")
+        log(f"dagger {task}: {config.episodes} rollouts of sep{scale.large}-{task}")
+        summary = collect_dagger(config, show_progress=False)
+        log(f"dagger {task}: learner success {summary['learner_success']:.2f}, {summary['steps']} steps, "
+            f"{summary['seconds']:.0f} s")
+        folders[task] = folder
+    return folders
+
+
+def dagger_runs(root: Path, folders: dict[str, Path], dagger: dict[str, Path], scale: Scale) -> dict[str, TrainConfig]:
+    """The DAgger models: the large set plus the rollouts of the large Sep model."""
+    model = ModelConfig(image_size=scale.image_size, d_model=scale.d_model, layers=scale.layers)
+    runs = {}
+    for task in TRAIN_TASKS:
+        name = f"sep{scale.large}-{task}-dagger"
+        runs[name] = TrainConfig((str(folders[task]), str(dagger[task])), str(root / "models" / name),
+                                 (scale.large, None), scale.epochs_large, threads=1, model=model)
+    return runs
+
+
+def _size(config: TrainConfig) -> int:
+    """Roughly the work of a training run (to start the biggest first)."""
+    limits = [config.limit(i) or 0 for i in range(len(config.data))]
+    return sum(limits) * config.epochs
+
+
 def _trained(config: TrainConfig) -> bool:
     path = Path(config.out) / FINAL
     if not path.is_file():
@@ -216,7 +269,7 @@ def train_models(runs: dict[str, TrainConfig], workers: int) -> dict[str, dict]:
         import multiprocessing
 
         # The biggest runs first, so the two workers finish together.
-        order = sorted(todo, key=lambda n: -len(todo[n].data) * (todo[n].trajectories or 0) * todo[n].epochs)
+        order = sorted(todo, key=lambda n: -_size(todo[n]))
         with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("forkserver")) as pool:
             futures = {name: pool.submit(_train_one, todo[name]) for name in order}
             for name in order:
@@ -229,7 +282,7 @@ def train_models(runs: dict[str, TrainConfig], workers: int) -> dict[str, dict]:
 
 
 # -- 3. evaluation ---------------------------------------------------------------------------
-def table_rows(root: Path, scale: Scale) -> list[tuple[str, dict[str, str]]]:
+def table_rows(root: Path, scale: Scale, dagger: bool = False) -> list[tuple[str, dict[str, str]]]:
     """(row label, eval task -> policy spec) in the table's order."""
     models = root / "models"
     rows = [("Random", dict.fromkeys(EVAL_TASKS, RANDOM))]
@@ -238,6 +291,9 @@ def table_rows(root: Path, scale: Scale) -> list[tuple[str, dict[str, str]]]:
                      {t: str(models / f"sep{amount}-{SEP_MODEL_FOR[t]}" / FINAL) for t in EVAL_TASKS}))
     rows.append((f"VLA-Joint {_amount(scale.large)} (ours)",
                  dict.fromkeys(EVAL_TASKS, str(models / f"joint{scale.large}" / FINAL))))
+    if dagger:
+        rows.append((f"VLA-Sep {_amount(scale.large)} + DAgger (ours)",
+                     {t: str(models / f"sep{scale.large}-{SEP_MODEL_FOR[t]}-dagger" / FINAL) for t in EVAL_TASKS}))
     rows.append(("Expert (privileged)", dict.fromkeys(EVAL_TASKS, EXPERT)))
     return rows
 
@@ -342,9 +398,10 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 
 
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
-        perturb: float = 0.0, scan: bool = False) -> dict:
+        perturb: float = 0.0, scan: bool = False, dagger: bool = False) -> dict:
     """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
-    look around first (see the module docstring)."""
+    look around first; ``dagger``: a DAgger round on the large Sep models (see the module
+    docstring)."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
@@ -368,8 +425,18 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     metrics = train_models(runs, workers)
     times["training"] = time.monotonic() - t
 
+    if dagger:
+        t = time.monotonic()
+        rollouts = collect_dagger_data(out, scale, workers, scan)
+        times["dagger_data"] = time.monotonic() - t
+        t = time.monotonic()
+        more = dagger_runs(out, folders, rollouts, scale)
+        metrics.update(train_models(more, workers))
+        runs.update(more)
+        times["dagger_training"] = time.monotonic() - t
+
     t = time.monotonic()
-    rows = table_rows(out, scale)
+    rows = table_rows(out, scale, dagger)
     log(f"evaluating {len(rows)} rows x {len(EVAL_TASKS)} tasks x {episodes} episodes")
     evaluated = evaluate_rows(rows, scale, episodes, eval_seed, workers)
     times["evaluation"] = time.monotonic() - t
@@ -378,7 +445,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     overlap = len(eval_houses & data_house_seeds(folders, scale.large))
     times["total"] = time.monotonic() - started
     extra = {"workers": workers, "eval_seeds": [eval_seed, eval_seed + episodes - 1],
-             "perturb": perturb, "scan": scan,
+             "perturb": perturb, "scan": scan, "dagger": scale.dagger_rollouts if dagger else 0,
              "data_seeds": {t: DATA_SEED + i * DATA_SEED_STRIDE for i, t in enumerate(TRAIN_TASKS)},
              "house_overlap_eval_vs_data": overlap, "wall_seconds": {k: round(v, 1) for k, v in times.items()},
              "training": {name: {"config": runs[name].to_dict(), "metrics": metrics[name]} for name in runs},
@@ -402,6 +469,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                    help="recovery data: per step, the probability of a random move/turn labelled by the expert")
     p.add_argument("--scan", action="store_true",
                    help="Where Is demonstrations from an expert that looks around until the object is in view")
+    p.add_argument("--dagger", action="store_true",
+                   help="add a row: one DAgger round on the large Sep models (rollouts labelled by the expert)")
     p.add_argument("--redraw", action="store_true", help="only rewrite the tables from OUT/results.json")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
@@ -409,7 +478,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.redraw:
             redraw(out)
             return 0
-        run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan)
+        run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2

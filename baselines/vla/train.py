@@ -6,7 +6,8 @@
         --trajectories 1000 --epochs 8
 
 ``--data`` may be given several times (joint training); ``--trajectories N`` takes the first
-N trajectories of each (collection order, so 1K is a prefix of 10K). Every epoch ends with
+N trajectories of each (collection order, so 1K is a prefix of 10K); in code a tuple gives
+each dataset its own limit (``None``: all of it). Every epoch ends with
 a checkpoint (``last.pt``, with the optimizer: an interrupted run resumes with
 ``--resume``) and a line of ``log.jsonl``; the final weights are ``model.pt``. The same
 data, configuration and seed give the same weights (deterministic algorithms, one fixed
@@ -51,7 +52,7 @@ LAST, FINAL, LOG = "last.pt", "model.pt", "log.jsonl"
 class TrainConfig:
     data: tuple[str, ...]
     out: str
-    trajectories: int | None = None   # per dataset; None: all
+    trajectories: int | tuple[int | None, ...] | None = None   # per dataset; None: all
     epochs: int = 8
     trajectories_per_batch: int = 16
     lr: float = 1e-3
@@ -70,15 +71,23 @@ class TrainConfig:
             raise ValueError("no --data given")
         if self.epochs < 1:
             raise ValueError(f"epochs must be >= 1, got {self.epochs}")
-        if self.trajectories is not None and self.trajectories < 1:
+        limits = self.trajectories if isinstance(self.trajectories, tuple) else (self.trajectories,)
+        if isinstance(self.trajectories, tuple) and len(limits) != len(self.data):
+            raise ValueError(f"trajectories gives {len(limits)} limits for {len(self.data)} datasets")
+        if any(n is not None and n < 1 for n in limits):
             raise ValueError(f"trajectories must be >= 1, got {self.trajectories}")
         if self.trajectories_per_batch < 1:
             raise ValueError(f"trajectories_per_batch must be >= 1, got {self.trajectories_per_batch}")
         if not 0.0 <= self.validation_fraction < 1.0:
             raise ValueError(f"validation_fraction must be in [0, 1), got {self.validation_fraction}")
 
+    def limit(self, dataset: int) -> int | None:
+        """The number of trajectories to take from ``data[dataset]`` (None: all)."""
+        return self.trajectories[dataset] if isinstance(self.trajectories, tuple) else self.trajectories
+
     def to_dict(self) -> dict:
-        return {**asdict(self), "data": list(self.data), "model": self.model.to_dict()}
+        trajectories = list(self.trajectories) if isinstance(self.trajectories, tuple) else self.trajectories
+        return {**asdict(self), "data": list(self.data), "trajectories": trajectories, "model": self.model.to_dict()}
 
 
 def set_determinism(seed: int, threads: int | None) -> None:
@@ -110,11 +119,12 @@ def load_data(config: TrainConfig) -> list:
     """(root, trajectory) pairs. Whole trajectories are rebuilt from the lines, so the
     model's window need not be the one the data was written with."""
     loaded = []
-    for path in config.data:
+    for index, path in enumerate(config.data):
         root = resolve_root(path)
-        trajectories = read_trajectories(root, config.trajectories)
-        if config.trajectories is not None and len(trajectories) < config.trajectories:
-            raise DatasetError(f"{root} holds {len(trajectories)} trajectories, {config.trajectories} wanted: "
+        limit = config.limit(index)
+        trajectories = read_trajectories(root, limit)
+        if limit is not None and len(trajectories) < limit:
+            raise DatasetError(f"{root} holds {len(trajectories)} trajectories, {limit} wanted: "
                                "collect more (legent-gym collect resumes the same run)")
         loaded += [(root, t) for t in trajectories]
     return loaded

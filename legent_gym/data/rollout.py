@@ -134,8 +134,17 @@ def _perturbation_rng(seed: int) -> np.random.Generator:
     return np.random.default_rng([seed, 0x9E7])  # its own stream: the env's seed alone fixes it
 
 
+def _expert_label(info: dict) -> str:
+    if "expert_action" not in info:
+        raise KeyError("expert labels need info['expert_action']: wrap the env in ExpertInfo")
+    expert = info["expert_action"]
+    if not isinstance(expert, str):
+        raise TypeError("expert labels need text actions (action_type='text')")
+    return expert
+
+
 def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env_id: str,
-                   perturb: float = 0.0) -> Episode:
+                   perturb: float = 0.0, expert_labels: bool = False) -> Episode:
     """Reset with ``seed`` and play ``policy`` until the episode ends.
 
     ``perturb``: the probability, per step, of executing a random :func:`perturbation`
@@ -143,7 +152,10 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
     wherever the perturbation left the agent, labels the states off its own path). Such a
     step records the perturbation in ``actions``/``action_texts`` (what happened) and the
     expert's action (``info["expert_action"]``, which the env must provide) in ``labels``.
-    The perturbations depend on ``seed`` alone. Text actions only."""
+    The perturbations depend on ``seed`` alone. Text actions only.
+
+    ``expert_labels``: label *every* step with the expert's action (DAgger: the policy
+    drives, the expert says what it should have done in each state it reached)."""
     if not 0.0 <= perturb < 1.0:
         raise ValueError(f"perturb must be in [0, 1), got {perturb}")
     rng = _perturbation_rng(seed) if perturb > 0 else None
@@ -155,13 +167,10 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
     episode.infos.append(recorded_info(info))
     while True:
         action, label = policy(obs, info), None
+        if expert_labels:
+            label = _expert_label(info)
         if rng is not None and rng.random() < perturb:
-            if "expert_action" not in info:
-                raise KeyError("perturb needs info['expert_action'] for the labels: wrap the env in ExpertInfo")
-            expert = info["expert_action"]
-            if not isinstance(expert, str):
-                raise TypeError("perturb needs text actions (action_type='text')")
-            action, label = perturbation(rng), expert
+            action, label = perturbation(rng), _expert_label(info)
         obs, reward, terminated, truncated, info = env.step(action)
         episode.actions.append(action)
         episode.labels.append(label)
