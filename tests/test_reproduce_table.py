@@ -1,6 +1,7 @@
-"""`baselines/reproduce_table.py --scale small` end to end, as CI runs it: `legent-gym
-collect`, seven trainings, five rows x four tasks of evaluation, and the table in Markdown,
-CSV and PNG (the outputs are checked, not the success rates)."""
+"""`baselines/reproduce_table.py --scale small --dagger` end to end, as CI runs it:
+`legent-gym collect`, seven trainings, a DAgger round and three more trainings, six rows x
+four tasks of evaluation, and the table in Markdown, CSV and PNG (the outputs are checked,
+not the success rates)."""
 
 from __future__ import annotations
 
@@ -24,6 +25,8 @@ from baselines.reproduce_table import (  # noqa: E402
     TRAIN_TASKS,
     _trained,
     collect_command,
+    dagger_folder,
+    dagger_runs,
     data_folder,
     main,
     run,
@@ -32,7 +35,7 @@ from baselines.reproduce_table import (  # noqa: E402
 from baselines.vla.checkpoint import load_model  # noqa: E402
 
 SCRIPT = Path(__file__).resolve().parents[1] / "baselines" / "reproduce_table.py"
-OUR_ROWS = 5  # random, Sep small, Sep large, Joint, expert
+OUR_ROWS = 6  # random, Sep small, Sep large, Joint, Sep large + DAgger, expert
 
 
 def check_outputs(out: Path, scale: str) -> dict:
@@ -51,29 +54,41 @@ def check_outputs(out: Path, scale: str) -> dict:
         assert image.format == "PNG" and image.size[0] >= 800 and image.size[1] >= 300
     results = json.loads((out / "results.json").read_text())
     assert results["scale"] == scale and results["house_overlap_eval_vs_data"] == 0
-    assert set(results["wall_seconds"]) == {"data", "training", "evaluation", "total"}
+    assert set(results["wall_seconds"]) == {"data", "training", "dagger_data", "dagger_training", "evaluation",
+                                            "total"}
+    assert results["dagger"] == config.dagger_rollouts
     for label, per_task in results["episodes"].items():
         for task in EVAL_TASKS:
             assert [e["seed"] for e in per_task[task]] == list(range(config.episodes)), (label, task)
     models = sorted(p.parent.name for p in (out / "models").glob("*/model.pt"))
-    assert len(models) == 7  # 3 tasks x 2 amounts, and the joint model
+    assert len(models) == 10  # 3 tasks x 2 amounts, the joint model and 3 DAgger models
     model, _ = load_model(out / "models" / f"joint{config.large}" / "model.pt")
     assert model.config.image_size == config.image_size
     for task in TRAIN_TASKS:
         progress = json.loads((out / "data" / task / "progress.json").read_text())
         assert progress["progress"]["committed"] == config.large
+        dagger = json.loads((dagger_folder(out, task, config) / "dagger.json").read_text())
+        assert dagger["episodes"] == config.dagger_rollouts and dagger["config"]["policy"].endswith(
+            f"sep{config.large}-{task}/model.pt")
+        # The DAgger model learned from the demonstrations and every rollout.
+        metrics = results["training"][f"sep{config.large}-{task}-dagger"]["metrics"]
+        assert metrics["trajectories"] == config.large + config.dagger_rollouts
     return results
 
 
 def test_small_scale_from_the_command_line(tmp_path):
-    done = subprocess.run([sys.executable, str(SCRIPT), "--scale", "small", "--out", str(tmp_path)],
+    done = subprocess.run([sys.executable, str(SCRIPT), "--scale", "small", "--dagger", "--out", str(tmp_path)],
                           capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stderr[-3000:]
     assert "| VLA-Joint 20 (ours) |" in done.stdout and "house seeds shared" in done.stdout
+    assert "| VLA-Sep 20 + DAgger (ours) |" in done.stdout
     check_outputs(tmp_path, "small")
     # A second run would resume: every model is recognised as trained by this configuration.
     folders = {task: tmp_path / "data" / task for task in TRAIN_TASKS}
-    assert all(_trained(config) for config in training_runs(tmp_path, folders, SCALES["small"]).values())
+    dagger = {task: dagger_folder(tmp_path, task, SCALES["small"]) for task in TRAIN_TASKS}
+    runs = {**training_runs(tmp_path, folders, SCALES["small"]),
+            **dagger_runs(tmp_path, folders, dagger, SCALES["small"])}
+    assert all(_trained(config) for config in runs.values())
     # The tables can be redrawn from results.json alone.
     markdown, table = (tmp_path / "table.md").read_text(), (tmp_path / "table.csv").read_text()
     for name in ("table.md", "table.csv", "table.png"):

@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import shutil
 
+import gymnasium as gym
 import numpy as np
 import pytest
 
@@ -314,3 +315,73 @@ def test_train_cli(datasets, tmp_path, capsys):
     assert (tmp_path / "m" / FINAL).is_file()
     assert train_main(["--data", str(tmp_path / "nothing"), "--out", str(tmp_path / "x")]) == 2
     assert "no interleaved.jsonl" in capsys.readouterr().err
+
+
+# -- DAgger ----------------------------------------------------------------------------------
+def test_dagger_labels_every_state_the_learner_reached_with_the_expert(checkpoint, tmp_path):
+    from baselines.vla.dagger import DaggerConfig, collect_dagger
+    from legent_gym.data.legent_format import load_trajectories
+    from legent_gym.wrappers.expert import ExpertInfo
+
+    config = DaggerConfig(str(checkpoint), "Legent/ComeHere-OneRoom-v0", str(tmp_path / "d1"), 3, 20_000_000)
+    summary = collect_dagger(config, show_progress=False)
+    assert summary["episodes"] == 3 and 0.0 <= summary["learner_success"] <= 1.0
+    trajectories = load_trajectories(tmp_path / "d1" / "legent")
+    assert [t["seed"] for t in trajectories] == [20_000_000, 20_000_001, 20_000_002]
+    assert summary["steps"] == sum(t["steps"] for t in trajectories)
+    # Replay what the learner executed: at every state, the label is the expert's action there.
+    env = ExpertInfo(gym.make("Legent/ComeHere-OneRoom-v0", width=SIZE, height=SIZE))
+    try:
+        for trajectory in trajectories:
+            obs, info = env.reset(seed=trajectory["seed"])
+            for step in trajectory["interactions"][1]["trajectory"]:
+                assert step["expert_action"] == info["expert_action"]
+                obs, _, terminated, truncated, info = env.step(step["action"])
+            assert terminated or truncated
+            assert bool(info["success"]) == trajectory["success"]  # failed rollouts are kept too
+    finally:
+        env.close()
+    # The training lines: the learner's actions in the history, the expert's as the target.
+    lines = [json.loads(line) for line in (tmp_path / "d1" / "legent" / "interleaved.jsonl").open()]
+    assert len(lines) == summary["steps"] and all("executed" in line for line in lines)
+    # The same checkpoint and seeds give the same data, with any number of workers.
+    again = DaggerConfig(str(checkpoint), "Legent/ComeHere-OneRoom-v0", str(tmp_path / "d2"), 3, 20_000_000,
+                         workers=2)
+    collect_dagger(again, show_progress=False)
+    assert (tmp_path / "d2" / "legent" / "interleaved.jsonl").read_text() == \
+        (tmp_path / "d1" / "legent" / "interleaved.jsonl").read_text()
+    # A finished folder is kept as it is; other arguments into it are refused by name.
+    assert collect_dagger(config, show_progress=False) == summary
+    with pytest.raises(ValueError, match="other arguments"):
+        collect_dagger(DaggerConfig(str(checkpoint), "Legent/ComeHere-OneRoom-v0", str(tmp_path / "d1"), 4,
+                                    20_000_000), show_progress=False)
+    # The rollouts train a model next to the demonstrations (each dataset with its own limit).
+    out = tmp_path / "m"
+    metrics = train(TrainConfig((str(tmp_path / "d1"),), str(out), (2,), 1, threads=1,
+                                model=ModelConfig(image_size=SIZE, d_model=32, layers=1)), show_progress=False)
+    assert metrics["trajectories"] == 2
+
+
+def test_dagger_cli_names_bad_arguments(checkpoint, tmp_path, capsys):
+    from baselines.vla.dagger import main as dagger_main
+
+    base = ["--env", "Legent/ComeHere-OneRoom-v0", "--episodes", "1", "--seed", "20000000", "--quiet"]
+    assert dagger_main(["--policy", str(tmp_path / "none.pt"), "--out", str(tmp_path / "a"), *base]) == 2
+    assert "is not a checkpoint file" in capsys.readouterr().err
+    bad_env = ["--policy", str(checkpoint), "--out", str(tmp_path / "b"), *base]
+    bad_env[bad_env.index("Legent/ComeHere-OneRoom-v0")] = "Legent/Nope-v0"
+    assert dagger_main(bad_env) == 2 and "unknown environment id" in capsys.readouterr().err
+    (tmp_path / "c").mkdir()
+    (tmp_path / "c" / "stray.txt").write_text("x")
+    assert dagger_main(["--policy", str(checkpoint), "--out", str(tmp_path / "c"), *base]) == 2
+    assert "not a finished DAgger collection" in capsys.readouterr().err
+    assert dagger_main(["--policy", str(checkpoint), "--out", str(tmp_path / "d"), *base]) == 0
+    assert "learner success" in capsys.readouterr().out
+
+
+def test_per_dataset_trajectory_limits_are_checked():
+    with pytest.raises(ValueError, match="2 limits for 1 datasets"):
+        TrainConfig(("a",), "out", (1, None))
+    with pytest.raises(ValueError, match="trajectories must be >= 1"):
+        TrainConfig(("a", "b"), "out", (0, None))
+    assert TrainConfig(("a", "b"), "out", (5, None)).to_dict()["trajectories"] == [5, None]

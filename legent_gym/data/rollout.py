@@ -93,8 +93,9 @@ class Episode:
     truncations: list[bool] = field(default_factory=list)
     infos: list[dict[str, Any]] = field(default_factory=list)
     #: Per step, the expert's action (code) where a perturbation was executed in its place
-    #: (``record_episode(perturb=...)``), else None. The view before such a step is a state
-    #: the policy reached; the expert's action there is its label, the perturbation is not.
+    #: (``record_episode(perturb=...)``) or at every step (``expert_labels=True``, DAgger),
+    #: else None. The view before such a step is a state the policy reached; the expert's
+    #: action there is its label, what was executed is not.
     labels: list[str | None] = field(default_factory=list)
     success: bool = False
     house_seed: int | None = None
