@@ -329,6 +329,7 @@ def test_dagger_labels_every_state_the_learner_reached_with_the_expert(checkpoin
     trajectories = load_trajectories(tmp_path / "d1" / "legent")
     assert [t["seed"] for t in trajectories] == [20_000_000, 20_000_001, 20_000_002]
     assert summary["steps"] == sum(t["steps"] for t in trajectories)
+    assert 0 <= summary["steps_unlike_expert"] <= summary["steps"]
     # Replay what the learner executed: at every state, the label is the expert's action there.
     env = ExpertInfo(gym.make("Legent/ComeHere-OneRoom-v0", width=SIZE, height=SIZE))
     try:

@@ -131,6 +131,17 @@ def _rollouts(config: DaggerConfig) -> Iterator[tuple[Episode, list[bytes]]]:
             yield from future.result()
 
 
+def _template(text: str) -> str | None:
+    """Which action a step is, numbers aside (None for text that does not parse)."""
+    from baselines.vla.codec import decompose
+    from legent_gym.agent.actions import ActionParseError
+
+    try:
+        return decompose(text).template
+    except (ActionParseError, ValueError):
+        return None
+
+
 def collect_dagger(config: DaggerConfig, show_progress: bool = True) -> dict:
     """Roll out ``config.policy`` and write the expert-labelled rollouts to
     ``config.out/legent``; returns the summary (also ``config.out/dagger.json``). A folder
@@ -158,9 +169,10 @@ def collect_dagger(config: DaggerConfig, show_progress: bool = True) -> dict:
             writer.write(episode, index, pngs)
             successes += episode.success
             steps += episode.steps
-            disagreements += sum(a != b for a, b in zip(episode.action_texts, episode.labels))
+            disagreements += sum(_template(a) != _template(b) for a, b in zip(episode.action_texts, episode.labels))
             bar.update(1)
     writer.checkpoint()
+    # steps_unlike_expert: steps whose template (which action, numbers aside) is not the expert's.
     summary = {"config": asdict(config), "episodes": config.episodes, "learner_success": successes / config.episodes,
                "steps": steps, "steps_unlike_expert": disagreements,
                "seconds": round(time.monotonic() - began, 1)}
@@ -189,7 +201,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"dagger: error: {err}", file=sys.stderr)
         return 2
     print(f"dagger {args.env}: {summary['episodes']} rollouts, learner success {summary['learner_success']:.2f}, "
-          f"{summary['steps_unlike_expert']} of {summary['steps']} steps unlike the expert, "
+          f"{summary['steps_unlike_expert']} of {summary['steps']} steps not the expert's kind of action, "
           f"{summary['seconds']:.0f} s -> {args.out}")
     return 0
 
