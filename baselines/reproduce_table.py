@@ -178,9 +178,14 @@ def data_house_seeds(folders: dict[str, Path], limit: int) -> set[int]:
 
 
 # -- 2. training -----------------------------------------------------------------------------
+def model_config(scale: Scale) -> ModelConfig:
+    """The VLA every model of a scale is."""
+    return ModelConfig(image_size=scale.image_size, d_model=scale.d_model, layers=scale.layers)
+
+
 def training_runs(root: Path, folders: dict[str, Path], scale: Scale) -> dict[str, TrainConfig]:
     """Model name -> its training configuration."""
-    model = ModelConfig(image_size=scale.image_size, d_model=scale.d_model, layers=scale.layers)
+    model = model_config(scale)
     runs = {}
     for amount, epochs in ((scale.small, scale.epochs_small), (scale.large, scale.epochs_large)):
         for task in TRAIN_TASKS:
@@ -217,7 +222,7 @@ def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = Fal
 
 def dagger_runs(root: Path, folders: dict[str, Path], dagger: dict[str, Path], scale: Scale) -> dict[str, TrainConfig]:
     """The DAgger models: the large set plus the rollouts of the large Sep model."""
-    model = ModelConfig(image_size=scale.image_size, d_model=scale.d_model, layers=scale.layers)
+    model = model_config(scale)
     runs = {}
     for task in TRAIN_TASKS:
         name = f"sep{scale.large}-{task}-dagger"

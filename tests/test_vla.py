@@ -372,6 +372,8 @@ def test_dagger_cli_names_bad_arguments(checkpoint, tmp_path, capsys):
     bad_env = ["--policy", str(checkpoint), "--out", str(tmp_path / "b"), *base]
     bad_env[bad_env.index("Legent/ComeHere-OneRoom-v0")] = "Legent/Nope-v0"
     assert dagger_main(bad_env) == 2 and "unknown environment id" in capsys.readouterr().err
+    bad_strategy = ["--policy", str(checkpoint), "--out", str(tmp_path / "b"), *base, "--find-strategy", "peek"]
+    assert dagger_main(bad_strategy) == 2 and "--find-strategy must be one of direct, scan" in capsys.readouterr().err
     (tmp_path / "c").mkdir()
     (tmp_path / "c" / "stray.txt").write_text("x")
     assert dagger_main(["--policy", str(checkpoint), "--out", str(tmp_path / "c"), *base]) == 2

@@ -205,7 +205,8 @@ class ActionCodec:
     def slot_id(self, slot: str) -> int | None:
         return self._slot_id.get(slot)
 
-    def encode(self, text: str) -> Decomposed | None:
+    @staticmethod
+    def encode(text: str) -> Decomposed | None:
         """``decompose(text)``, or None for text that does not parse (a no-op in the env)."""
         try:
             return decompose(text)

@@ -40,6 +40,7 @@ import gymnasium as gym
 import legent_gym  # noqa: F401  (registers the environments)
 from legent_gym.data.legent_format import LegentWriter, episode_pngs
 from legent_gym.data.rollout import Episode, make_env, record_episode
+from legent_gym.experts.planners import FIND_STRATEGIES
 
 #: Rollouts per task handed to a worker at a time.
 CHUNK = 25
@@ -85,6 +86,9 @@ class DaggerConfig:
             raise DaggerError(f"--episodes must be >= 1, got {self.episodes}")
         if self.workers < 1:
             raise DaggerError(f"--workers must be >= 1, got {self.workers}")
+        if self.find_strategy not in FIND_STRATEGIES:
+            raise DaggerError(f"--find-strategy must be one of {', '.join(FIND_STRATEGIES)}, "
+                              f"got {self.find_strategy!r}")
 
 
 _worker: tuple | None = None
@@ -101,6 +105,12 @@ def _init_worker(config: DaggerConfig) -> None:
     env = make_env(config.env_id, {"width": size, "height": size}, expert=True,
                    find_strategy=config.find_strategy)
     _worker = (env, LearnerDriver(config.policy), config.env_id)
+
+
+def _close_worker() -> None:
+    global _worker
+    _worker[0].close()
+    _worker = None  # and let the model go
 
 
 def _roll_out(start: int, count: int, seed: int) -> list[tuple[Episode, list[bytes]]]:
@@ -122,7 +132,7 @@ def _rollouts(config: DaggerConfig) -> Iterator[tuple[Episode, list[bytes]]]:
             for chunk in chunks:
                 yield from _roll_out(*chunk)
         finally:
-            _worker[0].close()
+            _close_worker()
         return
     # forkserver: forking a process that holds an EGL context hangs (ENGINEERING-NOTES.md).
     with ProcessPoolExecutor(config.workers, mp_context=multiprocessing.get_context("forkserver"),
@@ -133,13 +143,10 @@ def _rollouts(config: DaggerConfig) -> Iterator[tuple[Episode, list[bytes]]]:
 
 def _template(text: str) -> str | None:
     """Which action a step is, numbers aside (None for text that does not parse)."""
-    from baselines.vla.codec import decompose
-    from legent_gym.agent.actions import ActionParseError
+    from baselines.vla.codec import ActionCodec
 
-    try:
-        return decompose(text).template
-    except (ActionParseError, ValueError):
-        return None
+    decomposed = ActionCodec.encode(text)
+    return None if decomposed is None else decomposed.template
 
 
 def collect_dagger(config: DaggerConfig, show_progress: bool = True) -> dict:

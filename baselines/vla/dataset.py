@@ -40,7 +40,8 @@ class Trajectory:
     actions: list[str]      # the action text executed at each step (what the history shows)
     window: int             # the most images one line holds
     #: The target per step: the expert's action. It differs from ``actions`` only at the
-    #: perturbed steps of recovery data (``legent-gym collect --perturb``). None: ``actions``.
+    #: perturbed steps of recovery data (``legent-gym collect --perturb``) and where a DAgger
+    #: learner did other than the expert (``baselines.vla.dagger``). None: ``actions``.
     labels: list[str] | None = None
 
     def __post_init__(self) -> None:
@@ -113,7 +114,7 @@ def _trajectory(path: Path, traj_id: str, numbered: list[tuple[int, dict]]) -> T
                                f"got {len(history)}")
         images.append(shown[-1])
         labels.append(record["action"])
-        actions.append(record.get("executed", record["action"]))  # a perturbed step executed another
+        actions.append(record.get("executed", record["action"]))  # a labelled step may have executed another
         first = n + 1 - len(shown)
         if first < 0 or shown != images[first:] or history != actions[first:n]:
             raise DatasetError(f"{where}: its window is not the trajectory's last {len(shown)} steps")

@@ -60,7 +60,7 @@ def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
     """The ``trajectory.json`` of an episode."""
     steps = [{"image": f"{traj_id}/{n:04d}.png", "action": text} for n, text in enumerate(episode.action_texts)]
     for step, label in zip(steps, episode.labels):
-        if label is not None:  # a perturbed step (record_episode(perturb=...)): the expert's action
+        if label is not None:  # a perturbed or DAgger step (record_episode): the expert's action
             step["expert_action"] = label
     return {
         "id": traj_id,
@@ -94,9 +94,9 @@ def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW
     to and including the step, the actions between them, the prompt and the target action.
     Image paths are relative to the export root.
 
-    A perturbed step (recovery data, ``collect --perturb``) has the expert's action as its
-    target (``action``) and what was executed in ``executed``; the histories always hold
-    the executed actions."""
+    A labelled step (recovery data, ``collect --perturb``; DAgger rollouts,
+    ``baselines.vla.dagger``) has the expert's action as its target (``action``) and what
+    was executed in ``executed``; the histories always hold the executed actions."""
     if window < 1:
         raise ValueError(f"the interleaved window must be >= 1 image, got {window}")
     instruction = trajectory["interactions"][0]["text"]

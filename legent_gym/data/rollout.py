@@ -167,11 +167,11 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
     episode.observations.append(obs)
     episode.infos.append(recorded_info(info))
     while True:
-        action, label = policy(obs, info), None
-        if expert_labels:
-            label = _expert_label(info)
-        if rng is not None and rng.random() < perturb:
-            action, label = perturbation(rng), _expert_label(info)
+        action = policy(obs, info)
+        perturbed = rng is not None and rng.random() < perturb
+        if perturbed:
+            action = perturbation(rng)
+        label = _expert_label(info) if perturbed or expert_labels else None
         obs, reward, terminated, truncated, info = env.step(action)
         episode.actions.append(action)
         episode.labels.append(label)
