@@ -44,6 +44,41 @@ def test_expert_policy_collects_a_demonstration():
     env.close()
 
 
+def test_goal_view_follows_the_camera():
+    """info["goal_view"]: turning right by t degrees lowers the bearing by t; an object's
+    visibility is the tasks' own test; the scan expert answers only with the object in view;
+    the user's bearing agrees with the two poses."""
+    env = ExpertInfo(gym.make("Legent/WhereIs-OneRoom-v0", width=32, height=32), "scan")
+    _, info = env.reset(seed=1)
+    oracle = env.expert.oracle
+    for turn in (30.0, -75.0, 12.5):
+        before = info["goal_view"]
+        _, _, _, _, info = env.step(f"rotate_right({turn})")
+        after = info["goal_view"]
+        assert (before["bearing"] - turn - after["bearing"] + 180) % 360 - 180 == pytest.approx(0, abs=0.02)
+        assert after["distance"] == pytest.approx(before["distance"], abs=1e-3)
+        assert after["visible"] == oracle.is_visible(oracle.goal.target)
+    _, info = env.reset(seed=1)
+    seen = []
+    while not info["expert_action"].startswith("speak("):
+        seen.append(info["goal_view"]["visible"])
+        _, _, terminated, truncated, info = env.step(info["expert_action"])
+        assert not (terminated or truncated)
+    assert info["goal_view"]["visible"] and not seen[0]  # the scan turned until it saw the object
+    env.close()
+
+    env = ExpertInfo(gym.make("Legent/ComeHere-OneRoom-v0", width=32, height=32))
+    _, info = env.reset(seed=2)
+    for _ in range(3):
+        x, y, yaw, _ = info["agent_pose"]
+        ux, uy = info["user_pose"][:2]
+        bearing = (yaw - np.degrees(np.arctan2(uy - y, ux - x)) + 180) % 360 - 180
+        assert info["goal_view"]["bearing"] == pytest.approx(bearing, abs=0.02)
+        assert info["goal_view"]["distance"] == pytest.approx(np.hypot(ux - x, uy - y), abs=1e-3)
+        _, _, _, _, info = env.step("rotate_right(40)")
+    env.close()
+
+
 def _random_step(rng: np.random.Generator) -> tuple:
     return (MoveForward(round(float(rng.uniform(0, 1.5)), 2)), RotateRight(round(float(rng.uniform(-90, 90)), 1)),
             RotateDown(round(float(rng.uniform(-20, 20)), 1)))

@@ -16,7 +16,10 @@ from baselines.evaluate import run_episodes  # noqa: E402
 from baselines.vla.checkpoint import load_model, read_checkpoint  # noqa: E402
 from baselines.vla.codec import ActionCodec, decompose  # noqa: E402
 from baselines.vla.dataset import (  # noqa: E402
+    BEARING_SECTORS,
+    IGNORE,
     DatasetError,
+    aux_targets,
     batches,
     encode,
     mirror_slots,
@@ -148,6 +151,51 @@ def test_recovery_data_trains_on_the_experts_labels_and_shows_what_was_executed(
             assert nxt is None or nxt["history"][-1] == line["executed"]
 
 
+def test_goal_view_labels_reach_the_training_targets(datasets):
+    """collect stores the expert wrapper's goal_view per step; the loader turns it into the
+    auxiliary targets of the same step."""
+    root = datasets["WhereIs-OneRoom"] / "legent"
+    record = json.loads((root / "000000" / "trajectory.json").read_text())
+    steps = record["interactions"][1]["trajectory"]
+    assert all(set(step["goal_view"]) == {"visible", "bearing", "distance"} for step in steps)
+    lines = [json.loads(line) for line in (root / "interleaved.jsonl").read_text().splitlines()]
+    assert [line["goal_view"] for line in lines if line["trajectory"] == "000000"] == [s["goal_view"] for s in steps]
+    loaded = [(root, t) for t in read_trajectories(root)]
+    assert loaded[0][1].goal_views == [s["goal_view"] for s in steps]
+    assert loaded[0][1].goal_views[-1]["visible"]  # the expert answers with the object in view
+    codec = ActionCodec.fit(a for _, t in loaded for a in t.actions)
+    data = encode(loaded, codec, WordVocab.fit(t.instruction for _, t in loaded), window=6)
+    expected = [aux_targets(v) for _, t in loaded for v in t.goal_views]
+    assert [tuple(map(int, row)) for row in zip(data.target_visible, data.target_bearing, data.target_distance)] == expected
+    assert aux_targets({"visible": True, "bearing": -31.0, "distance": 2.5}) == (1, 11, 2)
+    assert aux_targets({"visible": False, "bearing": 175.0, "distance": 0.5}) == (0, 6, 0)
+    assert aux_targets(None) == (IGNORE, IGNORE, IGNORE)
+
+
+def test_auxiliary_goal_view_losses_train_and_need_labels(datasets, tmp_path):
+    config = _config(datasets, tmp_path / "aux", model=ModelConfig(**{**TINY.to_dict(), "aux_weight": 0.5}))
+    train(config, show_progress=False)
+    model, vocab = load_model(tmp_path / "aux" / FINAL)
+    assert model.config.aux_weight == 0.5 and hasattr(model, "head_aux")
+    root = datasets["ComeHere-OneRoom"] / "legent"
+    loaded = [(root, t) for t in read_trajectories(root)]
+    batch = next(batches(encode(loaded, model.codec, vocab, window=6), range(2), 2, rng=None))
+    out = model(**{k: v for k, v in batch.items() if not k.startswith("target")})
+    _, parts = model.loss(out, batch)
+    assert parts["aux"] > 0 and out["bearing"].shape == (len(batch["target_template"]), BEARING_SECTORS)
+    # Without goal_view labels the option is refused by name.
+    copy = tmp_path / "unlabelled"
+    shutil.copytree(root, copy)
+    lines = [json.loads(line) for line in (copy / "interleaved.jsonl").read_text().splitlines()]
+    (copy / "interleaved.jsonl").write_text("".join(json.dumps({k: v for k, v in line.items() if k != "goal_view"})
+                                                    + "\n" for line in lines))
+    with pytest.raises(DatasetError, match="needs goal_view labels"):
+        train(TrainConfig((str(copy),), str(tmp_path / "x"), epochs=1, threads=1, model=config.model),
+              show_progress=False)
+    with pytest.raises(ValueError, match="aux_weight must be >= 0"):
+        ModelConfig(aux_weight=-1)
+
+
 def test_mirrored_trajectories_flip_views_and_turns(datasets):
     root = datasets["ComeHere-OneRoom"] / "legent"
     loaded = [(root, t) for t in read_trajectories(root)]
@@ -172,6 +220,8 @@ def test_mirrored_trajectories_flip_views_and_turns(datasets):
             assert o1 == pytest.approx(-o0 if is_flipped else o0)
         h0, h1 = plain["history_numbers"][i, :, turn], flipped["history_numbers"][i, :, turn]
         assert torch.equal(h1, -h0 if is_flipped else h0)
+        s0, s1 = int(plain["target_bearing"][i]), int(flipped["target_bearing"][i])
+        assert s0 >= 0 and s1 == ((BEARING_SECTORS - s0) % BEARING_SECTORS if is_flipped else s0)
         seen.add(is_flipped)
     assert seen == {True, False}  # with this seed both kinds occur
     assert torch.equal(plain["target_template"], flipped["target_template"])
@@ -226,7 +276,7 @@ def test_model_learns_a_small_set_and_decodes_valid_code(datasets):
 
 def _config(datasets, out, **kw) -> TrainConfig:
     return TrainConfig((str(datasets["ComeHere-OneRoom"]), str(datasets["WhereIs-OneRoom"])), str(out),
-                       trajectories=3, epochs=2, trajectories_per_batch=2, threads=1, model=TINY, **kw)
+                       trajectories=3, epochs=2, trajectories_per_batch=2, threads=1, **{"model": TINY, **kw})
 
 
 def test_training_is_deterministic_and_resumes(datasets, tmp_path):

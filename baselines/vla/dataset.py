@@ -43,12 +43,17 @@ class Trajectory:
     #: perturbed steps of recovery data (``legent-gym collect --perturb``) and where a DAgger
     #: learner did other than the expert (``baselines.vla.dagger``). None: ``actions``.
     labels: list[str] | None = None
+    #: Per step, the privileged view of the goal (``goal_view`` lines: visible, bearing,
+    #: distance) where the data holds it, else None: auxiliary targets (``aux_weight``).
+    goal_views: list[dict | None] | None = None
 
     def __post_init__(self) -> None:
         if self.labels is None:
             self.labels = list(self.actions)
         if len(self.labels) != len(self.actions):
             raise ValueError(f"trajectory {self.id}: {len(self.labels)} labels for {len(self.actions)} actions")
+        if self.goal_views is None:
+            self.goal_views = [None] * len(self.actions)
 
     @property
     def perturbed(self) -> int:
@@ -101,6 +106,7 @@ def _trajectory(path: Path, traj_id: str, numbered: list[tuple[int, dict]]) -> T
     images: list[str] = []
     actions: list[str] = []
     labels: list[str] = []
+    goal_views: list[dict | None] = []
     window = 1
     for n, (number, record) in enumerate(numbered):
         where = f"{path}:{number} (trajectory {traj_id})"
@@ -114,13 +120,39 @@ def _trajectory(path: Path, traj_id: str, numbered: list[tuple[int, dict]]) -> T
                                f"got {len(history)}")
         images.append(shown[-1])
         labels.append(record["action"])
+        goal_views.append(_goal_view(where, record.get("goal_view")))
         actions.append(record.get("executed", record["action"]))  # a labelled step may have executed another
         first = n + 1 - len(shown)
         if first < 0 or shown != images[first:] or history != actions[first:n]:
             raise DatasetError(f"{where}: its window is not the trajectory's last {len(shown)} steps")
         window = max(window, len(shown))
     first = numbered[0][1]
-    return Trajectory(traj_id, first["instruction"], first.get("env_id"), images, actions, window, labels)
+    return Trajectory(traj_id, first["instruction"], first.get("env_id"), images, actions, window, labels,
+                      goal_views)
+
+
+def _goal_view(where: str, view) -> dict | None:
+    if view is None:
+        return None
+    try:
+        return {"visible": bool(view["visible"]), "bearing": float(view["bearing"]),
+                "distance": float(view["distance"])}
+    except (KeyError, TypeError, ValueError):
+        raise DatasetError(f"{where}: goal_view must be {{visible, bearing, distance}}, got {view!r}") from None
+
+
+#: Auxiliary targets: the goal's bearing in 30-degree sectors (sector 0 straight ahead,
+#: 1 to the right of it, 6 behind, 11 to the left) and its distance in these bands (metres).
+BEARING_SECTORS = 12
+DISTANCE_EDGES = (1.0, 2.0, 3.0, 4.0, 6.0)
+
+
+def aux_targets(view: dict | None) -> tuple[int, int, int]:
+    """(visible, bearing sector, distance band) of a goal view; IGNORE for each without one."""
+    if view is None:
+        return IGNORE, IGNORE, IGNORE
+    sector = int(round(view["bearing"] / (360.0 / BEARING_SECTORS))) % BEARING_SECTORS
+    return int(view["visible"]), sector, int(np.searchsorted(DISTANCE_EDGES, view["distance"], side="right"))
 
 
 @dataclass
@@ -139,6 +171,9 @@ class Encoded:
     target_bins: np.ndarray       # (S, n_slots), IGNORE where the slot is absent
     target_offsets: np.ndarray    # (S, n_slots)
     target_speech: np.ndarray     # (S,), IGNORE without speech
+    target_visible: np.ndarray    # (S,) the goal in view (0/1), IGNORE without a goal view
+    target_bearing: np.ndarray    # (S,) its bearing sector (BEARING_SECTORS), or IGNORE
+    target_distance: np.ndarray   # (S,) its distance band (DISTANCE_EDGES), or IGNORE
     n_bins: int
 
     @property
@@ -186,7 +221,8 @@ def encode(trajectories: Sequence[tuple[Path, Trajectory]], codec: ActionCodec, 
     traj_images, traj_samples = [], []
     rows: dict[str, list] = {k: [] for k in ("instruction", "window_images", "history_template",
                                              "history_numbers", "history_speech", "target_template",
-                                             "target_bins", "target_offsets", "target_speech")}
+                                             "target_bins", "target_offsets", "target_speech",
+                                             "target_visible", "target_bearing", "target_distance")}
     shape = None
     for root, traj in trajectories:
         base = len(images)
@@ -220,11 +256,14 @@ def encode(trajectories: Sequence[tuple[Path, Trajectory]], codec: ActionCodec, 
             rows["target_bins"].append(bins)
             rows["target_offsets"].append(offsets)
             rows["target_speech"].append(IGNORE if target.speech is None else codec.speech_id(target.speech))
+            for key, value in zip(("target_visible", "target_bearing", "target_distance"),
+                                  aux_targets(traj.goal_views[n])):
+                rows[key].append(value)
         traj_samples.append(np.arange(first_sample, len(rows["target_template"])))
     if not images:
         raise DatasetError("no trajectories to encode")
-    stacked = {k: np.stack(v) if k != "target_template" and k != "target_speech" else np.asarray(v, np.int64)
-               for k, v in rows.items()}
+    scalars = ("target_template", "target_speech", "target_visible", "target_bearing", "target_distance")
+    stacked = {k: np.asarray(v, np.int64) if k in scalars else np.stack(v) for k, v in rows.items()}
     return Encoded(np.stack(images), traj_images, traj_samples, **stacked, n_bins=codec.bins)
 
 
@@ -259,6 +298,7 @@ def batches(data: Encoded, trajectory_ids: Sequence[int], trajectories_per_batch
         history_numbers = data.history_numbers[samples]
         target_bins = data.target_bins[samples]
         target_offsets = data.target_offsets[samples]
+        target_bearing = data.target_bearing[samples]
         if mirror is not None and rng is not None and mirror.any():
             flip = rng.random(len(chosen)) < 0.5
             flip_images = np.repeat(flip, [len(data.traj_images[t]) for t in chosen])
@@ -273,6 +313,10 @@ def batches(data: Encoded, trajectory_ids: Sequence[int], trajectories_per_batch
             # Turn ranges are symmetric: bin i mirrors to bin (n - 1 - i), the offset flips.
             target_bins[rows] = np.where(bins >= 0, data.n_bins - 1 - bins, bins)
             target_offsets[rows] = -target_offsets[rows]
+            # The goal's bearing mirrors too: sector i (to the right) becomes sector -i.
+            target_bearing = target_bearing.copy()
+            turned = flip_samples & (target_bearing >= 0)
+            target_bearing[turned] = (BEARING_SECTORS - target_bearing[turned]) % BEARING_SECTORS
         yield {
             "images": torch.from_numpy(np.ascontiguousarray(images)).permute(0, 3, 1, 2).contiguous(),
             "window_images": torch.from_numpy(local),
@@ -284,4 +328,7 @@ def batches(data: Encoded, trajectory_ids: Sequence[int], trajectories_per_batch
             "target_bins": torch.from_numpy(target_bins),
             "target_offsets": torch.from_numpy(target_offsets),
             "target_speech": torch.from_numpy(data.target_speech[samples]),
+            "target_visible": torch.from_numpy(data.target_visible[samples]),
+            "target_bearing": torch.from_numpy(target_bearing),
+            "target_distance": torch.from_numpy(data.target_distance[samples]),
         }

@@ -28,6 +28,7 @@ from torch import nn
 from torch.nn import functional as F
 
 from baselines.vla.codec import ActionCodec
+from baselines.vla.dataset import BEARING_SECTORS, DISTANCE_EDGES
 
 
 @dataclass(frozen=True)
@@ -40,6 +41,11 @@ class ModelConfig:
     ff: int = 256
     dropout: float = 0.1
     channels: tuple[int, ...] = (16, 32, 64, 128)
+    #: Weight of the auxiliary losses (0: no auxiliary heads): from the same last token,
+    #: predict whether the goal is in view, its bearing sector and its distance band, from
+    #: the privileged ``goal_view`` labels of the data. Dense per-step supervision of what
+    #: the image shows, where behaviour cloning gives one action.
+    aux_weight: float = 0.0
 
     def __post_init__(self) -> None:
         stride = 2 ** len(self.channels)
@@ -48,6 +54,8 @@ class ModelConfig:
                              f"{len(self.channels)} times), got {self.image_size}")
         if self.window < 1:
             raise ValueError(f"window must be >= 1 view, got {self.window}")
+        if self.aux_weight < 0:
+            raise ValueError(f"aux_weight must be >= 0, got {self.aux_weight}")
         if self.d_model % self.heads:
             raise ValueError(f"d_model ({self.d_model}) must be divisible by heads ({self.heads})")
 
@@ -102,6 +110,8 @@ class VLA(nn.Module):
         self.head_bins = nn.Linear(d, max(self.n_slots, 1) * self.bins)
         self.head_offsets = nn.Linear(d, max(self.n_slots, 1) * self.bins)
         self.head_speech = nn.Linear(d, codec.n_speeches)
+        if config.aux_weight > 0:
+            self.head_aux = nn.Linear(d, 2 + BEARING_SECTORS + len(DISTANCE_EDGES) + 1)
 
     def forward(self, images: torch.Tensor, window_images: torch.Tensor, instruction: torch.Tensor,
                 history_template: torch.Tensor, history_numbers: torch.Tensor,
@@ -134,17 +144,23 @@ class VLA(nn.Module):
         padding = torch.cat([instruction == 0, window_pad], dim=1)
         hidden = self.norm(self.encoder(tokens, src_key_padding_mask=padding)[:, -1])
         slots = max(self.n_slots, 1)
-        return {
+        out = {
             "template": self.head_template(hidden),
             "bins": self.head_bins(hidden).view(batch, slots, self.bins),
             "offsets": 0.5 * torch.tanh(self.head_offsets(hidden).view(batch, slots, self.bins)),
             "speech": self.head_speech(hidden),
         }
+        if self.config.aux_weight > 0:
+            aux = self.head_aux(hidden)
+            out["visible"], out["bearing"], out["distance"] = aux.split(
+                [2, BEARING_SECTORS, len(DISTANCE_EDGES) + 1], dim=1)
+        return out
 
-    @staticmethod
-    def loss(out: dict[str, torch.Tensor], batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict]:
+    def loss(self, out: dict[str, torch.Tensor], batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict]:
         """Cross-entropy on the template, bins and sentence; squared error on the offset of
-        the true bin. Absent slots and silent steps carry no loss."""
+        the true bin. Absent slots and silent steps carry no loss. With ``aux_weight``, plus
+        that weight times the cross-entropy of the goal-view predictions (steps without a
+        goal view carry none)."""
         template = F.cross_entropy(out["template"], batch["target_template"])
         total, parts = template, {"template": template.item()}
         target_bins = batch["target_bins"]
@@ -161,6 +177,11 @@ class VLA(nn.Module):
             speech = F.cross_entropy(out["speech"], batch["target_speech"], ignore_index=-100)
             total = total + speech
             parts["speech"] = speech.item()
+        if self.config.aux_weight > 0 and "target_visible" in batch and (batch["target_visible"] >= 0).any():
+            aux = sum(F.cross_entropy(out[key], batch[f"target_{key}"], ignore_index=-100)
+                      for key in ("visible", "bearing", "distance"))
+            total = total + self.config.aux_weight * aux
+            parts["aux"] = aux.item()
         return total, parts
 
     def decode(self, out: dict[str, torch.Tensor]) -> list[str]:

@@ -134,7 +134,7 @@ def load_data(config: TrainConfig) -> list:
 def evaluate_loss(model: VLA, data: Encoded, ids: np.ndarray, per_batch: int) -> dict[str, float]:
     """Mean loss and how often the greedy template and bins match the expert's."""
     model.eval()
-    total, n, template_hits, bin_hits, bin_n = 0.0, 0, 0, 0, 0
+    total, n, template_hits, bin_hits, bin_n, seen_hits, seen_n = 0.0, 0, 0, 0, 0, 0, 0
     for batch in batches(data, ids, per_batch, rng=None):
         out = model(**{k: v for k, v in batch.items() if not k.startswith("target")})
         loss, _ = model.loss(out, batch)
@@ -145,8 +145,15 @@ def evaluate_loss(model: VLA, data: Encoded, ids: np.ndarray, per_batch: int) ->
         present = batch["target_bins"] >= 0
         bin_hits += int((out["bins"].argmax(-1)[present] == batch["target_bins"][present]).sum())
         bin_n += int(present.sum())
-    return {"loss": total / max(n, 1), "template_accuracy": template_hits / max(n, 1),
-            "bin_accuracy": bin_hits / max(bin_n, 1)}
+        if "visible" in out:
+            labelled = batch["target_visible"] >= 0
+            seen_hits += int((out["visible"].argmax(-1)[labelled] == batch["target_visible"][labelled]).sum())
+            seen_n += int(labelled.sum())
+    metrics = {"loss": total / max(n, 1), "template_accuracy": template_hits / max(n, 1),
+               "bin_accuracy": bin_hits / max(bin_n, 1)}
+    if seen_n:
+        metrics["visible_accuracy"] = seen_hits / seen_n
+    return metrics
 
 
 def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = True,
@@ -177,6 +184,9 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
         raise DatasetError(f"the views are {data.images.shape[2]}x{side} but the model takes "
                            f"{config.model.image_size}x{config.model.image_size}: collect with "
                            f"--width/--height {config.model.image_size} or set the image size")
+    if config.model.aux_weight > 0 and not (data.target_visible >= 0).any():
+        raise DatasetError("aux_weight > 0 needs goal_view labels, which this data lacks: collect it again "
+                           "with legent-gym collect (its steps then hold goal_view)")
     train_ids, val_ids = split(len(data.traj_samples), config.validation_fraction, config.seed)
     steps_per_epoch = math.ceil(len(train_ids) / config.trajectories_per_batch)
     total_steps = steps_per_epoch * config.epochs
@@ -265,13 +275,15 @@ def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse
     p.add_argument("--d-model", type=int, default=128)
     p.add_argument("--layers", type=int, default=3)
     p.add_argument("--window", type=int, default=6, help="views the model reads (the paper: 6)")
+    p.add_argument("--aux-weight", type=float, default=0.0,
+                   help="weight of the auxiliary goal-view losses (0: none; needs goal_view labels in the data)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--threads", type=int, help="torch threads (fix it for bit-identical runs)")
     p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
     p.add_argument("--quiet", action="store_true")
     args = p.parse_args(argv)
     model = ModelConfig(image_size=args.image_size, window=args.window, d_model=args.d_model,
-                        layers=args.layers)
+                        layers=args.layers, aux_weight=args.aux_weight)
     config = TrainConfig(tuple(os.fspath(d) for d in args.data), args.out, args.trajectories, args.epochs,
                          args.batch_trajectories, args.lr, augment=not args.no_augment, mirror=not args.no_mirror, seed=args.seed,
                          threads=args.threads, model=model)

@@ -5,7 +5,9 @@ Under the export root (``OUT/legent``):
 * ``<id>/NNNN.png``: the agent's view before action N (lossless RGB);
 * ``<id>/trajectory.json``: ``{"id", "interactions": [{"from": "human", "text": task},
   {"from": "agent", "trajectory": [{"image": "<id>/0000.png", "action": "..."}, ...]}]}``
-  plus our own fields (``env_id``, ``seed``, ``attempt``, ``task``, ...);
+  plus our own fields (``env_id``, ``seed``, ``attempt``, ``task``, ...); a step may also
+  hold ``expert_action`` (the label of a perturbed or DAgger step) and ``goal_view`` (the
+  privileged visibility, bearing and distance of the task's goal from that view);
 * ``trajectories.json``: the list of all trajectories (LEGENT's aggregated file);
 * ``interleaved.jsonl``: one line per step (see :func:`interleaved_records`).
 
@@ -62,6 +64,9 @@ def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
     for step, label in zip(steps, episode.labels):
         if label is not None:  # a perturbed or DAgger step (record_episode): the expert's action
             step["expert_action"] = label
+    for step, view in zip(steps, episode.goal_views):
+        if view is not None:  # privileged labels of the view (ExpertInfo's info["goal_view"])
+            step["goal_view"] = view
     return {
         "id": traj_id,
         "interactions": [
@@ -123,6 +128,8 @@ def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW
         })
         if "expert_action" in step:
             records[-1]["executed"] = step["action"]
+        if "goal_view" in step:
+            records[-1]["goal_view"] = step["goal_view"]
     return records
 
 

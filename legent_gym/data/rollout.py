@@ -97,6 +97,10 @@ class Episode:
     #: else None. The view before such a step is a state the policy reached; the expert's
     #: action there is its label, what was executed is not.
     labels: list[str | None] = field(default_factory=list)
+    #: Per observation, ``info["goal_view"]`` (the goal's visibility, bearing and distance
+    #: from that view; :class:`~legent_gym.experts.oracle.GoalView`) where the env provides
+    #: it (``ExpertInfo``), else None.
+    goal_views: list[dict[str, Any] | None] = field(default_factory=list)
     success: bool = False
     house_seed: int | None = None
     scene_name: str | None = None
@@ -166,6 +170,7 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
                       task=task, house_seed=info.get("house_seed"), scene_name=info.get("scene_name"))
     episode.observations.append(obs)
     episode.infos.append(recorded_info(info))
+    episode.goal_views.append(info.get("goal_view"))
     while True:
         action = policy(obs, info)
         perturbed = rng is not None and rng.random() < perturb
@@ -181,6 +186,7 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
         episode.truncations.append(bool(truncated))
         episode.observations.append(obs)
         episode.infos.append(recorded_info(info))
+        episode.goal_views.append(info.get("goal_view"))
         if terminated or truncated:
             break
     episode.success = bool(info.get("success", False))

@@ -24,7 +24,7 @@ from legent_gym.tasks.feasibility import yaw_pitch_to
 from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS
 from legent_gym.world.navigation import NavGrid
 
-__all__ = ["Oracle", "Pose", "RayHit", "direction_of", "yaw_pitch_to"]
+__all__ = ["GoalView", "Oracle", "Pose", "RayHit", "direction_of", "yaw_pitch_to"]
 
 _VIEW_GROUPS = np.zeros(6, dtype=np.uint8)
 _VIEW_GROUPS[GROUP_HOUSE] = _VIEW_GROUPS[GROUP_OBJECTS] = 1
@@ -49,6 +49,22 @@ class RayHit:
     point: np.ndarray
     object_id: int | None
     door_id: str | None
+
+
+@dataclass(frozen=True)
+class GoalView:
+    """Where the task's current goal is as seen from the head camera: ``visible`` (in the
+    view and unoccluded, the tasks' own test for objects; the user's head or chest for a
+    person), ``bearing`` (degrees to turn right to face it, in [-180, 180)) and
+    ``distance`` (horizontal metres from the camera). Privileged: for labels (auxiliary
+    training targets, analysis), never for a policy's input."""
+
+    visible: bool
+    bearing: float
+    distance: float
+
+    def to_dict(self) -> dict:
+        return {"visible": self.visible, "bearing": round(self.bearing, 2), "distance": round(self.distance, 3)}
 
 
 def direction_of(yaw: float, pitch: float) -> np.ndarray:
@@ -184,6 +200,47 @@ class Oracle:
     def is_visible(self, object_id: int) -> bool:
         """The object is in the agent's current view, unoccluded (the tasks' own test)."""
         return self._ctx.is_visible(self._ctx.agent, object_id)
+
+    def goal_view(self) -> GoalView:
+        """:class:`GoalView` of what the task is about now: the user (ComeHere; BringMe once
+        the object is held), the receptacle (PutOn once the object is held), else the
+        goal's ``target`` object."""
+        ctx, goal = self._ctx, self.goal
+        target = getattr(goal, "target", None)
+        held = ctx.agent.state.held
+        if target is None or (held == target and self.task_name == "BringMe"):
+            return self._user_view()
+        if held == target and getattr(goal, "receptacle", None) is not None:
+            target = goal.receptacle
+        return self._view_of(self.object_centre(target), ctx.is_visible(ctx.agent, target))
+
+    def _view_of(self, point: np.ndarray, visible: bool) -> GoalView:
+        eye = self.eye
+        yaw, _ = yaw_pitch_to(eye, point)
+        bearing = (self.pose.yaw - yaw + 180.0) % 360.0 - 180.0  # + yaw turns left; bearing is rightwards
+        return GoalView(bool(visible), bearing, float(math.hypot(point[0] - eye[0], point[1] - eye[1])))
+
+    def _user_view(self) -> GoalView:
+        user = self._ctx.user
+        head = user.camera_position
+        chest = np.array([head[0], head[1], 0.7 * user.options.height])
+        return self._view_of(head, self._sees(head) or self._sees(chest))
+
+    def _sees(self, point: np.ndarray) -> bool:
+        # In the view cone and no house or object geometry in front of it (the user's own
+        # geoms are in neither group, so a ray that reaches the point has met nothing).
+        ctx = self._ctx
+        eye = self.eye
+        to = point - eye
+        dist = float(np.linalg.norm(to))
+        if dist < 1e-6:
+            return True
+        cos = float(np.clip(to @ ctx.agent.view_direction() / dist, -1.0, 1.0))
+        if math.degrees(math.acos(cos)) > self.fovy / 2:
+            return False
+        geomid = np.zeros(1, dtype=np.int32)
+        hit = mujoco.mj_ray(ctx.world.model, ctx.world.data, eye, to / dist, _VIEW_GROUPS, 1, -1, geomid)
+        return hit < 0 or hit >= dist - 1e-3
 
     # -- rays ------------------------------------------------------------------------------
     @property

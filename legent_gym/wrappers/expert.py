@@ -8,6 +8,10 @@
   ``step`` (pass ``None``), for collecting demonstrations; ``info["expert_action"]`` is the
   action about to be taken and ``info["action_taken"]`` the one just taken.
 
+``info["goal_view"]`` is the :class:`~legent_gym.experts.oracle.GoalView` of the task's
+current goal as a dict (``visible``, ``bearing``, ``distance``): privileged labels that
+``legent-gym collect`` stores per step for auxiliary training targets.
+
 When the expert cannot plan (the goal became unreachable) its action is ``finish()`` and
 ``info["expert_problem"]`` says why; otherwise ``info["expert_problem"]`` is ``""``.
 """
@@ -22,7 +26,8 @@ from legent_gym.experts.expert import Expert
 
 
 class ExpertInfo(gym.Wrapper):
-    """Adds ``info["expert_action"]`` (and ``info["expert_problem"]``) at reset and every step.
+    """Adds ``info["expert_action"]`` (and ``info["expert_problem"]``, ``info["goal_view"]``)
+    at reset and every step.
 
     ``find_strategy``: passed to :class:`~legent_gym.experts.expert.Expert`."""
 
@@ -34,6 +39,7 @@ class ExpertInfo(gym.Wrapper):
         info = dict(info)
         info["expert_action"] = self.expert.action()
         info["expert_problem"] = self.expert.problem or ""
+        info["goal_view"] = self.expert.oracle.goal_view().to_dict()
         return info
 
     def reset(self, **kwargs):
