@@ -3,6 +3,7 @@ training (determinism, resume), the policy in the env, and evaluation."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import shutil
 
@@ -401,8 +402,10 @@ def test_dagger_labels_every_state_the_learner_reached_with_the_expert(checkpoin
     collect_dagger(again, show_progress=False)
     assert (tmp_path / "d2" / "legent" / "interleaved.jsonl").read_text() == \
         (tmp_path / "d1" / "legent" / "interleaved.jsonl").read_text()
-    # A finished folder is kept as it is; other arguments into it are refused by name.
+    # A finished folder is kept as it is (also asked with another worker count); other
+    # arguments into it are refused by name.
     assert collect_dagger(config, show_progress=False) == summary
+    assert collect_dagger(dataclasses.replace(config, workers=2), show_progress=False) == summary
     with pytest.raises(ValueError, match="other arguments"):
         collect_dagger(DaggerConfig(str(checkpoint), "Legent/ComeHere-OneRoom-v0", str(tmp_path / "d1"), 4,
                                     20_000_000), show_progress=False)

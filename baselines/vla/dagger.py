@@ -149,15 +149,21 @@ def _template(text: str) -> str | None:
     return None if decomposed is None else decomposed.template
 
 
+def _data_arguments(config: dict) -> dict:
+    # Everything the rollouts depend on: the worker count does not change them.
+    return {k: v for k, v in config.items() if k != "workers"}
+
+
 def collect_dagger(config: DaggerConfig, show_progress: bool = True) -> dict:
     """Roll out ``config.policy`` and write the expert-labelled rollouts to
     ``config.out/legent``; returns the summary (also ``config.out/dagger.json``). A folder
-    that already holds this collection is left as it is."""
+    that already holds this collection (the same arguments, whatever the worker count) is
+    left as it is."""
     out = Path(config.out)
     summary_path = out / SUMMARY
     if summary_path.is_file():
         summary = json.loads(summary_path.read_text())
-        if summary.get("config") == asdict(config):
+        if _data_arguments(summary.get("config") or {}) == _data_arguments(asdict(config)):
             return summary
         raise DaggerError(f"{out} holds a DAgger collection with other arguments "
                           f"({summary.get('config')}): use a new --out")

@@ -125,15 +125,15 @@ class VLA(nn.Module):
         shown = window_images >= 0
         view_tokens = views[window_images.clamp(min=0)] + self.kind.weight[1]  # (B, k, d)
         if self.n_slots == 0:
-            history_numbers = torch.zeros(*history_numbers.shape[:2], 1)
+            history_numbers = torch.zeros(*history_numbers.shape[:2], 1, device=views.device)
         action_tokens = (self.template(history_template) + self.numbers(history_numbers)
                          + self.speech(history_speech) + self.kind.weight[2])  # (B, k-1, d)
-        window = torch.zeros(batch, 2 * k - 1, d, dtype=views.dtype)
+        window = torch.zeros(batch, 2 * k - 1, d, dtype=views.dtype, device=views.device)
         window[:, 0::2] = view_tokens
         window[:, 1::2] = action_tokens
         window = window + self.window_position
         # An action is padding when the view before it is (the window is left-padded).
-        window_pad = torch.zeros(batch, 2 * k - 1, dtype=torch.bool)
+        window_pad = torch.zeros(batch, 2 * k - 1, dtype=torch.bool, device=views.device)
         window_pad[:, 0::2] = ~shown
         window_pad[:, 1::2] = ~shown[:, :-1]
         # Words are left-aligned: drop the columns that are padding in every sample (most

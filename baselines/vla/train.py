@@ -64,6 +64,9 @@ class TrainConfig:
     bins: int = 37
     seed: int = 0
     threads: int | None = None
+    #: torch device to train on ("cpu", "cuda", ...). Results are deterministic per device
+    #: (CUDA needs CUBLAS_WORKSPACE_CONFIG=:4096:8); checkpoints load onto the CPU either way.
+    device: str = "cpu"
     model: ModelConfig = field(default_factory=ModelConfig)
 
     def __post_init__(self) -> None:
@@ -90,11 +93,12 @@ class TrainConfig:
         return {**asdict(self), "data": list(self.data), "trajectories": trajectories, "model": self.model.to_dict()}
 
 
-def set_determinism(seed: int, threads: int | None) -> None:
+def set_determinism(seed: int, threads: int | None, device: str = "cpu") -> None:
     """Same seed, same threads -> same numbers (torch's CPU kernels are deterministic under
-    ``use_deterministic_algorithms``; the thread count changes reduction order)."""
+    ``use_deterministic_algorithms``; the thread count changes reduction order). On other
+    devices a kernel without a deterministic version warns rather than stops training."""
     torch.manual_seed(seed)
-    torch.use_deterministic_algorithms(True)
+    torch.use_deterministic_algorithms(True, warn_only=device != "cpu")
     if threads:
         torch.set_num_threads(threads)
 
@@ -134,8 +138,10 @@ def load_data(config: TrainConfig) -> list:
 def evaluate_loss(model: VLA, data: Encoded, ids: np.ndarray, per_batch: int) -> dict[str, float]:
     """Mean loss and how often the greedy template and bins match the expert's."""
     model.eval()
+    device = next(model.parameters()).device
     total, n, template_hits, bin_hits, bin_n, seen_hits, seen_n = 0.0, 0, 0, 0, 0, 0, 0
     for batch in batches(data, ids, per_batch, rng=None):
+        batch = {k: v.to(device) for k, v in batch.items()}
         out = model(**{k: v for k, v in batch.items() if not k.startswith("target")})
         loss, _ = model.loss(out, batch)
         size = len(batch["target_template"])
@@ -163,7 +169,7 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
     (a time-boxed share of a run that a later ``resume`` finishes). ``epoch_lines``: without
     a progress bar, still print one line per epoch, prefixed with this name (for runs in
     parallel processes, whose bars would garble each other)."""
-    set_determinism(config.seed, config.threads)
+    set_determinism(config.seed, config.threads, config.device)
     out = Path(config.out)
     out.mkdir(parents=True, exist_ok=True)
     started = time.monotonic()
@@ -190,6 +196,7 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
     train_ids, val_ids = split(len(data.traj_samples), config.validation_fraction, config.seed)
     steps_per_epoch = math.ceil(len(train_ids) / config.trajectories_per_batch)
     total_steps = steps_per_epoch * config.epochs
+    model.to(config.device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
 
     def lr_at(step: int) -> float:  # linear warm-up, then cosine to 5 %
@@ -225,6 +232,7 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
         for batch in bar:
             if config.augment:
                 batch["images"] = augment(batch["images"], generator)
+            batch = {k: v.to(config.device, non_blocking=True) for k, v in batch.items()}
             out_ = model(**{k: v for k, v in batch.items() if not k.startswith("target")})
             loss, _ = model.loss(out_, batch)
             optimizer.zero_grad(set_to_none=True)
@@ -274,19 +282,26 @@ def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse
     p.add_argument("--image-size", type=int, default=64, help="must match the data's views")
     p.add_argument("--d-model", type=int, default=128)
     p.add_argument("--layers", type=int, default=3)
+    p.add_argument("--channels", default="16,32,64,128",
+                   help="the image encoder's convolution widths, comma-separated (each halves the view)")
     p.add_argument("--window", type=int, default=6, help="views the model reads (the paper: 6)")
     p.add_argument("--aux-weight", type=float, default=0.0,
                    help="weight of the auxiliary goal-view losses (0: none; needs goal_view labels in the data)")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--device", default="cpu", help="torch device to train on, e.g. cuda (default cpu)")
     p.add_argument("--threads", type=int, help="torch threads (fix it for bit-identical runs)")
     p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
     p.add_argument("--quiet", action="store_true")
     args = p.parse_args(argv)
+    try:
+        channels = tuple(int(c) for c in args.channels.split(","))
+    except ValueError:
+        raise ValueError(f"--channels must be comma-separated integers, got {args.channels!r}") from None
     model = ModelConfig(image_size=args.image_size, window=args.window, d_model=args.d_model,
-                        layers=args.layers, aux_weight=args.aux_weight)
+                        layers=args.layers, channels=channels, aux_weight=args.aux_weight)
     config = TrainConfig(tuple(os.fspath(d) for d in args.data), args.out, args.trajectories, args.epochs,
                          args.batch_trajectories, args.lr, augment=not args.no_augment, mirror=not args.no_mirror, seed=args.seed,
-                         threads=args.threads, model=model)
+                         threads=args.threads, device=args.device, model=model)
     return config, args
 
 
