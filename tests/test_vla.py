@@ -366,6 +366,14 @@ def test_train_cli(datasets, tmp_path, capsys):
     assert (tmp_path / "m" / FINAL).is_file()
     assert train_main(["--data", str(tmp_path / "nothing"), "--out", str(tmp_path / "x")]) == 2
     assert "no interleaved.jsonl" in capsys.readouterr().err
+    # The image encoder's widths, the auxiliary losses and the device are options too.
+    wide = args[:-1] + ["--out", str(tmp_path / "w"), "--channels", "8,16,32,32", "--aux-weight", "0.3",
+                        "--device", "cpu", "--quiet"]
+    assert train_main(wide) == 0
+    config = read_checkpoint(tmp_path / "w" / FINAL)["config"]
+    assert list(config["channels"]) == [8, 16, 32, 32] and config["aux_weight"] == 0.3
+    assert train_main(args[:-1] + ["--channels", "8,x", "--quiet"]) == 2
+    assert "--channels must be comma-separated integers" in capsys.readouterr().err
 
 
 # -- DAgger ----------------------------------------------------------------------------------
