@@ -86,7 +86,8 @@ def test_interleaved_jsonl_follows_the_contract(collected):
     first = trajectories[0]
     line = lines[0]
     assert set(line) == {"trajectory", "step", "instruction", "images", "history", "prompt", "action",
-                         "task", "env_id", "seed"}
+                         "task", "env_id", "seed", "goal_view"}
+    assert line["goal_view"] == first["interactions"][1]["trajectory"][0]["goal_view"]
     assert line["trajectory"] == first["id"] and line["step"] == 0 and line["task"] == "ComeHere"
     assert line["env_id"] == ENV_ID and line["seed"] == first["seed"]
     assert line["images"] == [f"{first['id']}/0000.png"] and line["history"] == []
