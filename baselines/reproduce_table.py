@@ -57,7 +57,7 @@ import sys
 import time
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 if __package__ in (None, ""):  # run as a script: make `baselines` importable
@@ -99,6 +99,7 @@ class Scale:
     episodes: int         # evaluation episodes per task and row
     d_model: int = 128
     layers: int = 3
+    channels: tuple[int, ...] = (16, 32, 64, 128)  # the image encoder's widths
     dagger: int = 0       # DAgger rollouts per task (``--dagger``); 0: the large amount / 5
 
     @property
@@ -180,7 +181,8 @@ def data_house_seeds(folders: dict[str, Path], limit: int) -> set[int]:
 # -- 2. training -----------------------------------------------------------------------------
 def model_config(scale: Scale) -> ModelConfig:
     """The VLA every model of a scale is."""
-    return ModelConfig(image_size=scale.image_size, d_model=scale.d_model, layers=scale.layers)
+    return ModelConfig(image_size=scale.image_size, d_model=scale.d_model, layers=scale.layers,
+                       channels=scale.channels)
 
 
 def training_runs(root: Path, folders: dict[str, Path], scale: Scale) -> dict[str, TrainConfig]:
@@ -403,10 +405,12 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 
 
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
-        perturb: float = 0.0, scan: bool = False, dagger: bool = False) -> dict:
+        perturb: float = 0.0, scan: bool = False, dagger: bool = False,
+        channels: tuple[int, ...] | None = None, epochs_large: int | None = None) -> dict:
     """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
     look around first; ``dagger``: a DAgger round on the large Sep models (see the module
-    docstring)."""
+    docstring); ``channels`` and ``epochs_large`` replace the scale's encoder widths and
+    its epochs on the large sets (use a new ``out``: the model folders keep their names)."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
@@ -414,6 +418,13 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     if not 0.0 <= perturb < 1.0:
         raise ValueError(f"perturb must be in [0, 1), got {perturb}")
     scale = SCALES[scale_name]
+    if channels is not None:
+        scale = replace(scale, channels=tuple(channels))
+        model_config(scale)  # checks the widths against the image size now, not after collecting
+    if epochs_large is not None:
+        if epochs_large < 1:
+            raise ValueError(f"epochs_large must be >= 1, got {epochs_large}")
+        scale = replace(scale, epochs_large=epochs_large)
     episodes = episodes or scale.episodes
     if eval_seed + episodes > DATA_SEED:
         raise ValueError(f"evaluation seeds must stay below the data's ({DATA_SEED})")
@@ -476,6 +487,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                    help="Where Is demonstrations from an expert that looks around until the object is in view")
     p.add_argument("--dagger", action="store_true",
                    help="add a row: one DAgger round on the large Sep models (rollouts labelled by the expert)")
+    p.add_argument("--channels", help="the image encoder's widths, comma-separated (default: the scale's, "
+                                      "16,32,64,128; session 8 measured 32,64,128,256)")
+    p.add_argument("--epochs-large", type=int, help="epochs on the large sets (default: the scale's)")
     p.add_argument("--redraw", action="store_true", help="only rewrite the tables from OUT/results.json")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
@@ -483,7 +497,14 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.redraw:
             redraw(out)
             return 0
-        run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger)
+        channels = None
+        if args.channels:
+            try:
+                channels = tuple(int(c) for c in args.channels.split(","))
+            except ValueError:
+                raise ValueError(f"--channels must be comma-separated integers, got {args.channels!r}") from None
+        run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger,
+            channels, args.epochs_large)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2

@@ -6,6 +6,7 @@ not the success rates)."""
 from __future__ import annotations
 
 import csv
+import dataclasses
 import json
 import subprocess
 import sys
@@ -106,6 +107,20 @@ def test_bad_arguments_are_named(tmp_path):
     with pytest.raises(ValueError, match="perturb must be in"):
         run("small", tmp_path, workers=1, perturb=1.0)
     assert main(["--out", str(tmp_path / "none"), "--redraw"]) == 2  # no results.json to redraw
+    assert main(["--out", str(tmp_path / "c"), "--channels", "8,x"]) == 2
+    with pytest.raises(ValueError, match="multiple of 32"):  # five halvings of a 48 px view
+        run("small", tmp_path / "c", workers=1, channels=(8, 8, 8, 8, 8))
+    with pytest.raises(ValueError, match="epochs_large must be >= 1"):
+        run("small", tmp_path / "c", workers=1, epochs_large=0)
+    assert not (tmp_path / "c").exists()  # refused before anything was written
+
+
+def test_encoder_widths_and_epochs_reach_every_large_model(tmp_path):
+    scale = dataclasses.replace(SCALES["small"], channels=(8, 16, 32, 64), epochs_large=5)
+    folders = {task: tmp_path / task for task in TRAIN_TASKS}
+    runs = training_runs(tmp_path, folders, scale)
+    assert {r.model.channels for r in runs.values()} == {(8, 16, 32, 64)}
+    assert {r.epochs for name, r in runs.items() if str(scale.large) in name} == {5}
 
 
 def test_recovery_data_has_its_own_folders_and_collect_flag(tmp_path):
