@@ -66,7 +66,7 @@ if __package__ in (None, ""):  # run as a script: make `baselines` importable
 from baselines.vla.checkpoint import read_checkpoint  # noqa: E402
 from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  # noqa: E402
 from baselines.vla.model import ModelConfig  # noqa: E402
-from baselines.vla.train import FINAL, LAST, TrainConfig, train  # noqa: E402
+from baselines.vla.train import FINAL, LAST, TrainConfig, parse_channels, train  # noqa: E402
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
 
 TRAIN_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom")
@@ -497,12 +497,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.redraw:
             redraw(out)
             return 0
-        channels = None
-        if args.channels:
-            try:
-                channels = tuple(int(c) for c in args.channels.split(","))
-            except ValueError:
-                raise ValueError(f"--channels must be comma-separated integers, got {args.channels!r}") from None
+        channels = parse_channels(args.channels) if args.channels else None
         run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger,
             channels, args.epochs_large)
     except (ValueError, RuntimeError, FileNotFoundError) as err:

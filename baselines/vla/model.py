@@ -28,7 +28,7 @@ from torch import nn
 from torch.nn import functional as F
 
 from baselines.vla.codec import ActionCodec
-from baselines.vla.dataset import BEARING_SECTORS, DISTANCE_EDGES
+from baselines.vla.dataset import BEARING_SECTORS, DISTANCE_EDGES, IGNORE
 
 
 @dataclass(frozen=True)
@@ -178,7 +178,7 @@ class VLA(nn.Module):
             total = total + speech
             parts["speech"] = speech.item()
         if self.config.aux_weight > 0 and "target_visible" in batch and (batch["target_visible"] >= 0).any():
-            aux = sum(F.cross_entropy(out[key], batch[f"target_{key}"], ignore_index=-100)
+            aux = sum(F.cross_entropy(out[key], batch[f"target_{key}"], ignore_index=IGNORE)
                       for key in ("visible", "bearing", "distance"))
             total = total + self.config.aux_weight * aux
             parts["aux"] = aux.item()

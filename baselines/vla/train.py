@@ -268,6 +268,14 @@ def _append_log(path: Path, metrics: dict, fresh: bool) -> None:
     atomic_write_text(path, previous + json.dumps(metrics) + "\n", durable=False)
 
 
+def parse_channels(text: str) -> tuple[int, ...]:
+    """``--channels``: the image encoder's widths, e.g. ``"32,64,128,256"``."""
+    try:
+        return tuple(int(c) for c in text.split(","))
+    except ValueError:
+        raise ValueError(f"--channels must be comma-separated integers, got {text!r}") from None
+
+
 def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse.Namespace]:
     p = argparse.ArgumentParser(description="Behaviour cloning of the VLA baseline on legent-gym collect data.")
     p.add_argument("--data", action="append", required=True,
@@ -293,10 +301,7 @@ def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse
     p.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
     p.add_argument("--quiet", action="store_true")
     args = p.parse_args(argv)
-    try:
-        channels = tuple(int(c) for c in args.channels.split(","))
-    except ValueError:
-        raise ValueError(f"--channels must be comma-separated integers, got {args.channels!r}") from None
+    channels = parse_channels(args.channels)
     model = ModelConfig(image_size=args.image_size, window=args.window, d_model=args.d_model,
                         layers=args.layers, channels=channels, aux_weight=args.aux_weight)
     config = TrainConfig(tuple(os.fspath(d) for d in args.data), args.out, args.trajectories, args.epochs,

@@ -221,26 +221,10 @@ class Oracle:
         return GoalView(bool(visible), bearing, float(math.hypot(point[0] - eye[0], point[1] - eye[1])))
 
     def _user_view(self) -> GoalView:
-        user = self._ctx.user
-        head = user.camera_position
-        chest = np.array([head[0], head[1], 0.7 * user.options.height])
-        return self._view_of(head, self._sees(head) or self._sees(chest))
-
-    def _sees(self, point: np.ndarray) -> bool:
-        # In the view cone and no house or object geometry in front of it (the user's own
-        # geoms are in neither group, so a ray that reaches the point has met nothing).
         ctx = self._ctx
-        eye = self.eye
-        to = point - eye
-        dist = float(np.linalg.norm(to))
-        if dist < 1e-6:
-            return True
-        cos = float(np.clip(to @ ctx.agent.view_direction() / dist, -1.0, 1.0))
-        if math.degrees(math.acos(cos)) > self.fovy / 2:
-            return False
-        geomid = np.zeros(1, dtype=np.int32)
-        hit = mujoco.mj_ray(ctx.world.model, ctx.world.data, eye, to / dist, _VIEW_GROUPS, 1, -1, geomid)
-        return hit < 0 or hit >= dist - 1e-3
+        head = ctx.user.camera_position
+        chest = np.array([head[0], head[1], 0.7 * ctx.user.options.height])
+        return self._view_of(head, ctx.sees_point(ctx.agent, head) or ctx.sees_point(ctx.agent, chest))
 
     # -- rays ------------------------------------------------------------------------------
     @property

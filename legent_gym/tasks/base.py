@@ -114,23 +114,40 @@ class TaskContext:
 
     def is_visible(self, body: Body, object_id: int, max_fov_deg: float | None = None) -> bool:
         """The object's centre is in the camera's view and a ray to it hits the object first."""
-        centre = self.object_centre(object_id)
+        ray = self._view_ray(body, self.object_centre(object_id), max_fov_deg, target=object_id)
+        if ray is None:
+            return False
+        hit, geom, dist = ray
+        return dist < 1e-6 or (hit >= 0 and int(self.world.geom_object[geom]) == object_id)
+
+    def sees_point(self, body: Body, point: np.ndarray) -> bool:
+        """``point`` is in the camera's view and no house or object geometry (the held
+        object aside) is in front of it: the test for what is in neither group, such as an
+        avatar."""
+        ray = self._view_ray(body, np.asarray(point, dtype=float))
+        return ray is not None and (ray[0] < 0 or ray[0] >= ray[2] - 1e-3)
+
+    def _view_ray(self, body: Body, point: np.ndarray, max_fov_deg: float | None = None,
+                  target: int | None = None) -> tuple[float, int, float] | None:
+        """None when ``point`` is outside the field of view of ``body``'s camera; else the
+        ray from the camera towards it: (distance to the first house or object geom it
+        hits, -1 for none; that geom; distance to the point), (0, -1, 0) for a point at the
+        eye. The held object is no obstacle unless it is ``target``."""
         eye = body.camera_position
-        to = centre - eye
+        to = point - eye
         dist = float(np.linalg.norm(to))
         if dist < 1e-6:
-            return True
-        forward = body.view_direction()
+            return 0.0, -1, 0.0
         fov = max_fov_deg if max_fov_deg is not None else body.options.fovy
-        if math.degrees(math.acos(float(np.clip(to @ forward / dist, -1, 1)))) > fov / 2:
-            return False
+        if math.degrees(math.acos(float(np.clip(to @ body.view_direction() / dist, -1, 1)))) > fov / 2:
+            return None
         groups = np.zeros(6, dtype=np.uint8)
         groups[GROUP_HOUSE] = groups[GROUP_OBJECTS] = 1
         geomid = np.zeros(1, dtype=np.int32)
         held = body.state.held
-        exclude = self.world.object_body[held] if held is not None and held != object_id else -1
+        exclude = self.world.object_body[held] if held is not None and held != target else -1
         hit = mujoco.mj_ray(self.world.model, self.world.data, eye, to / dist, groups, 1, exclude, geomid)
-        return hit >= 0 and int(self.world.geom_object[geomid[0]]) == object_id
+        return float(hit), int(geomid[0]), dist
 
 
 @dataclass
