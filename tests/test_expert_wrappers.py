@@ -126,3 +126,32 @@ def test_dagger_acceptance(env_id):
     wins, possible = dagger_success(env_id, range(200), k=5)
     print(f"{env_id}: DAgger {wins}/{possible}")
     assert wins >= 0.99 * possible
+
+
+def test_a_held_object_hides_nothing_from_the_view_tests():
+    """The held object rides in front of the camera: a point just behind it is still seen
+    (sees_point, and so the user's goal view in BringMe), though a bare ray hits the object."""
+    import mujoco
+
+    from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS
+
+    env = ExpertInfo(gym.make("Legent/BringMe-OneRoom-v0", width=32, height=32))
+    _, info = env.reset(seed=0)
+    ctx = env.unwrapped.ctx
+    while ctx.agent.state.held is None:
+        _, _, terminated, truncated, info = env.step(info["expert_action"])
+        assert not (terminated or truncated)
+    held = ctx.agent.state.held
+    eye = ctx.agent.camera_position
+    centre = ctx.object_centre(held)
+    behind = eye + 1.3 * (centre - eye)
+    direction = (behind - eye) / np.linalg.norm(behind - eye)
+    groups = np.zeros(6, np.uint8)
+    groups[GROUP_HOUSE] = groups[GROUP_OBJECTS] = 1
+    geom = np.zeros(1, np.int32)
+    world = ctx.world
+    hit = mujoco.mj_ray(world.model, world.data, eye, direction, groups, 1, -1, geom)
+    assert 0 <= hit < np.linalg.norm(behind - eye) and int(world.geom_object[geom[0]]) == held
+    assert ctx.sees_point(ctx.agent, behind)
+    assert ctx.is_visible(ctx.agent, held)  # the held object itself is no obstacle to itself
+    env.close()

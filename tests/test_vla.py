@@ -197,6 +197,29 @@ def test_auxiliary_goal_view_losses_train_and_need_labels(datasets, tmp_path):
         ModelConfig(aux_weight=-1)
 
 
+def test_film_conditions_the_views_on_the_instruction(datasets, tmp_path):
+    config = _config(datasets, tmp_path / "film", model=ModelConfig(**{**TINY.to_dict(), "film": True}))
+    train(config, show_progress=False)
+    model, vocab = load_model(tmp_path / "film" / FINAL)
+    assert model.config.film and model.images.film is not None
+    root = datasets["WhereIs-OneRoom"] / "legent"
+    loaded = [(root, t) for t in read_trajectories(root)]
+    batch = next(batches(encode(loaded, model.codec, vocab, window=6), range(2), 2, rng=None))
+    images = batch["images"][:1]
+    with torch.no_grad():
+        # The same view, looked at for two different instructions, gives two tokens.
+        asked = [model._view_conditions(1, torch.zeros(1, 1, dtype=torch.long), torch.tensor([vocab.encode(text)]))
+                 for text in ("where is the apple?", "come here")]
+        tokens = [model.images(images, condition) for condition in asked]
+    assert not torch.allclose(tokens[0], tokens[1])
+    with pytest.raises(ValueError, match="needs a condition"):
+        model.images(images)
+    # The policy runs it in the env as any other checkpoint.
+    results = run_episodes(VLAPolicy(tmp_path / "film" / FINAL), "Legent/WhereIs-OneRoom-v0", 1, 0,
+                           {"width": SIZE, "height": SIZE, "max_episode_steps": 4})
+    assert results[0].steps >= 1
+
+
 def test_mirrored_trajectories_flip_views_and_turns(datasets):
     root = datasets["ComeHere-OneRoom"] / "legent"
     loaded = [(root, t) for t in read_trajectories(root)]
@@ -368,10 +391,10 @@ def test_train_cli(datasets, tmp_path, capsys):
     assert "no interleaved.jsonl" in capsys.readouterr().err
     # The image encoder's widths, the auxiliary losses and the device are options too.
     wide = args[:-1] + ["--out", str(tmp_path / "w"), "--channels", "8,16,32,32", "--aux-weight", "0.3",
-                        "--device", "cpu", "--quiet"]
+                        "--device", "cpu", "--film", "--quiet"]
     assert train_main(wide) == 0
     config = read_checkpoint(tmp_path / "w" / FINAL)["config"]
-    assert list(config["channels"]) == [8, 16, 32, 32] and config["aux_weight"] == 0.3
+    assert list(config["channels"]) == [8, 16, 32, 32] and config["aux_weight"] == 0.3 and config["film"]
     assert train_main(args[:-1] + ["--channels", "8,x", "--quiet"]) == 2
     assert "--channels must be comma-separated integers" in capsys.readouterr().err
 

@@ -7,7 +7,9 @@ views and the actions between them::
 
 * views: a small CNN (four stride-2 convolutions) whose flattened feature map goes through
   a linear layer to one token; flattening keeps *where* things are in the view, which the
-  turn towards a goal depends on;
+  turn towards a goal depends on. With ``film``, the instruction scales and shifts every
+  convolution's channels (FiLM, as in BabyAI), so the CNN looks for the object that was
+  asked for instead of summarising everything in view into one token;
 * instruction words: embeddings from a vocabulary built from the training data;
 * history actions: an embedding of the action's template, a linear map of its numbers and
   an embedding of what it said;
@@ -46,6 +48,11 @@ class ModelConfig:
     #: the privileged ``goal_view`` labels of the data. Dense per-step supervision of what
     #: the image shows, where behaviour cloning gives one action.
     aux_weight: float = 0.0
+    #: Condition the image encoder on the instruction (FiLM: a per-channel scale and shift
+    #: after each convolution's normalisation, from the mean of the instruction's word
+    #: embeddings). A fruit 3 m away covers a pixel or two of a 64 x 64 view; an encoder
+    #: that knows which fruit is asked for can keep those pixels.
+    film: bool = False
 
     def __post_init__(self) -> None:
         stride = 2 ** len(self.channels)
@@ -79,11 +86,30 @@ class ImageEncoder(nn.Module):
         self.convs = nn.Sequential(*layers)
         side = config.image_size // 2 ** len(config.channels)
         self.project = nn.Linear(previous * side * side, config.d_model)
+        self.film = None
+        if config.film:
+            # Zero-initialised: training starts from the unconditioned encoder.
+            self.film = nn.Linear(config.d_model, 2 * sum(config.channels))
+            nn.init.zeros_(self.film.weight)
+            nn.init.zeros_(self.film.bias)
 
-    def forward(self, images: torch.Tensor) -> torch.Tensor:
-        """(N, 3, H, W) uint8 -> (N, d_model)."""
+    def forward(self, images: torch.Tensor, condition: torch.Tensor | None = None) -> torch.Tensor:
+        """(N, 3, H, W) uint8 -> (N, d_model); ``condition`` (N, d_model) is what each
+        view is looked at for (needed with ``film``)."""
         x = images.float() / 127.5 - 1.0
-        return self.project(self.convs(x).flatten(1))
+        if self.film is None:
+            return self.project(self.convs(x).flatten(1))
+        if condition is None:
+            raise ValueError("an image encoder with film needs a condition for every view")
+        film = self.film(condition)
+        start = 0
+        for conv, norm, relu in zip(self.convs[0::3], self.convs[1::3], self.convs[2::3]):
+            x = norm(conv(x))
+            channels = x.shape[1]
+            scale, shift = film[:, start:start + channels], film[:, start + channels:start + 2 * channels]
+            start += 2 * channels
+            x = relu(x * (1 + scale[:, :, None, None]) + shift[:, :, None, None])
+        return self.project(x.flatten(1))
 
 
 class VLA(nn.Module):
@@ -121,8 +147,8 @@ class VLA(nn.Module):
         :func:`baselines.vla.dataset.window_inputs` writes them, batched."""
         batch, k = window_images.shape
         d = self.config.d_model
-        views = self.images(images)                                     # (N, d)
         shown = window_images >= 0
+        views = self.images(images, self._view_conditions(images.shape[0], window_images, instruction))
         view_tokens = views[window_images.clamp(min=0)] + self.kind.weight[1]  # (B, k, d)
         if self.n_slots == 0:
             history_numbers = torch.zeros(*history_numbers.shape[:2], 1, device=views.device)
@@ -155,6 +181,21 @@ class VLA(nn.Module):
             out["visible"], out["bearing"], out["distance"] = aux.split(
                 [2, BEARING_SECTORS, len(DISTANCE_EDGES) + 1], dim=1)
         return out
+
+    def _view_conditions(self, n_images: int, window_images: torch.Tensor,
+                         instruction: torch.Tensor) -> torch.Tensor | None:
+        """For FiLM: the instruction of each view (the mean of its word embeddings). A
+        view belongs to one trajectory, so every sample that shows it has the same
+        instruction: take any of them."""
+        if not self.config.film:
+            return None
+        words = (instruction != 0).unsqueeze(-1)
+        summary = (self.words(instruction) * words).sum(1) / words.sum(1).clamp(min=1)  # (B, d)
+        owner = torch.zeros(n_images, dtype=torch.long, device=instruction.device)
+        rows = torch.arange(window_images.shape[0], device=instruction.device)[:, None].expand_as(window_images)
+        shown = window_images >= 0
+        owner[window_images[shown]] = rows[shown]
+        return summary[owner]
 
     def loss(self, out: dict[str, torch.Tensor], batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict]:
         """Cross-entropy on the template, bins and sentence; squared error on the offset of

@@ -295,6 +295,8 @@ def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse
     p.add_argument("--window", type=int, default=6, help="views the model reads (the paper: 6)")
     p.add_argument("--aux-weight", type=float, default=0.0,
                    help="weight of the auxiliary goal-view losses (0: none; needs goal_view labels in the data)")
+    p.add_argument("--film", action="store_true",
+                   help="condition the image encoder on the instruction (FiLM)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--device", default="cpu", help="torch device to train on, e.g. cuda (default cpu)")
     p.add_argument("--threads", type=int, help="torch threads (fix it for bit-identical runs)")
@@ -303,7 +305,8 @@ def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse
     args = p.parse_args(argv)
     channels = parse_channels(args.channels)
     model = ModelConfig(image_size=args.image_size, window=args.window, d_model=args.d_model,
-                        layers=args.layers, channels=channels, aux_weight=args.aux_weight)
+                        layers=args.layers, channels=channels, aux_weight=args.aux_weight,
+                        film=args.film)
     config = TrainConfig(tuple(os.fspath(d) for d in args.data), args.out, args.trajectories, args.epochs,
                          args.batch_trajectories, args.lr, augment=not args.no_augment, mirror=not args.no_mirror, seed=args.seed,
                          threads=args.threads, device=args.device, model=model)
