@@ -100,6 +100,7 @@ class Scale:
     d_model: int = 128
     layers: int = 3
     channels: tuple[int, ...] = (16, 32, 64, 128)  # the image encoder's widths
+    film: bool = False    # the image encoder conditioned on the instruction (``--film``)
     dagger: int = 0       # DAgger rollouts per task (``--dagger``); 0: the large amount / 5
 
     @property
@@ -182,7 +183,7 @@ def data_house_seeds(folders: dict[str, Path], limit: int) -> set[int]:
 def model_config(scale: Scale) -> ModelConfig:
     """The VLA every model of a scale is."""
     return ModelConfig(image_size=scale.image_size, d_model=scale.d_model, layers=scale.layers,
-                       channels=scale.channels)
+                       channels=scale.channels, film=scale.film)
 
 
 def training_runs(root: Path, folders: dict[str, Path], scale: Scale) -> dict[str, TrainConfig]:
@@ -406,11 +407,12 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
         perturb: float = 0.0, scan: bool = False, dagger: bool = False,
-        channels: tuple[int, ...] | None = None, epochs_large: int | None = None) -> dict:
+        channels: tuple[int, ...] | None = None, epochs_large: int | None = None, film: bool = False) -> dict:
     """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
     look around first; ``dagger``: a DAgger round on the large Sep models (see the module
     docstring); ``channels`` and ``epochs_large`` replace the scale's encoder widths and
-    its epochs on the large sets (use a new ``out``: the model folders keep their names)."""
+    its epochs on the large sets, ``film`` conditions the image encoder on the instruction
+    (use a new ``out``: the model folders keep their names)."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
@@ -425,6 +427,8 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
         if epochs_large < 1:
             raise ValueError(f"epochs_large must be >= 1, got {epochs_large}")
         scale = replace(scale, epochs_large=epochs_large)
+    if film:
+        scale = replace(scale, film=True)
     episodes = episodes or scale.episodes
     if eval_seed + episodes > DATA_SEED:
         raise ValueError(f"evaluation seeds must stay below the data's ({DATA_SEED})")
@@ -490,6 +494,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--channels", help="the image encoder's widths, comma-separated (default: the scale's, "
                                       "16,32,64,128; session 8 measured 32,64,128,256)")
     p.add_argument("--epochs-large", type=int, help="epochs on the large sets (default: the scale's)")
+    p.add_argument("--film", action="store_true", help="condition the image encoder on the instruction (FiLM)")
     p.add_argument("--redraw", action="store_true", help="only rewrite the tables from OUT/results.json")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
@@ -499,7 +504,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         channels = parse_channels(args.channels) if args.channels else None
         run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger,
-            channels, args.epochs_large)
+            channels, args.epochs_large, args.film)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2
