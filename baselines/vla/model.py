@@ -51,7 +51,8 @@ class ModelConfig:
     #: Condition the image encoder on the instruction (FiLM: a per-channel scale and shift
     #: after each convolution's normalisation, from the mean of the instruction's word
     #: embeddings). A fruit 3 m away covers a pixel or two of a 64 x 64 view; an encoder
-    #: that knows which fruit is asked for can keep those pixels.
+    #: that knows which fruit is asked for could keep those pixels. Measured on Where Is:
+    #: no gain (docs/results.md); an option for other data.
     film: bool = False
 
     def __post_init__(self) -> None:
@@ -83,7 +84,7 @@ class ImageEncoder(nn.Module):
             layers += [nn.Conv2d(previous, channels, kernel, stride=2, padding=kernel // 2),
                        nn.GroupNorm(8, channels), nn.ReLU()]
             previous = channels
-        self.convs = nn.Sequential(*layers)
+        self.convs = nn.Sequential(*layers)  # (conv, norm, relu) per halving
         side = config.image_size // 2 ** len(config.channels)
         self.project = nn.Linear(previous * side * side, config.d_model)
         self.film = None
@@ -97,18 +98,17 @@ class ImageEncoder(nn.Module):
         """(N, 3, H, W) uint8 -> (N, d_model); ``condition`` (N, d_model) is what each
         view is looked at for (needed with ``film``)."""
         x = images.float() / 127.5 - 1.0
-        if self.film is None:
-            return self.project(self.convs(x).flatten(1))
-        if condition is None:
-            raise ValueError("an image encoder with film needs a condition for every view")
-        film = self.film(condition)
-        start = 0
-        for conv, norm, relu in zip(self.convs[0::3], self.convs[1::3], self.convs[2::3]):
+        film = None
+        if self.film is not None:
+            if condition is None:
+                raise ValueError("an image encoder with film needs a condition for every view")
+            widths = [conv.out_channels for conv in self.convs[0::3] for _ in ("scale", "shift")]
+            film = self.film(condition).split(widths, dim=1)
+        for i, (conv, norm, relu) in enumerate(zip(self.convs[0::3], self.convs[1::3], self.convs[2::3])):
             x = norm(conv(x))
-            channels = x.shape[1]
-            scale, shift = film[:, start:start + channels], film[:, start + channels:start + 2 * channels]
-            start += 2 * channels
-            x = relu(x * (1 + scale[:, :, None, None]) + shift[:, :, None, None])
+            if film is not None:  # per-channel scale and shift, from the instruction
+                x = x * (1 + film[2 * i][:, :, None, None]) + film[2 * i + 1][:, :, None, None]
+            x = relu(x)
         return self.project(x.flatten(1))
 
 
