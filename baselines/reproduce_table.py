@@ -37,6 +37,11 @@ expert looks around in place (right turns of 60 degrees) until the object is in 
 before it answers, instead of turning straight to an object the image does not show yet.
 The data goes to ``data/WhereIs-OneRoom-scan`` (with ``-perturb<P>`` after it).
 
+``--paper-where-is`` asks Where Is LEGENT's questions (its data's four objects, orange,
+apple, banana and cola, on its five receptacle kinds; ``legent_gym.tasks.PAPER_WHERE_IS``)
+in the data and in both Where Is columns, instead of any small object on any receptacle.
+The data goes to ``data/WhereIs-OneRoom-paper`` (then ``-scan``, ``-perturb<P>``).
+
 ``--dagger`` (beyond the paper) adds a row: one DAgger round on each Sep model of the large
 amount (:mod:`baselines.vla.dagger`). The model drives ``Scale.dagger`` rollouts of its
 training task (seeds ``20,000,000 + i * 1,000,000 + k``, disjoint from the data and the
@@ -68,6 +73,7 @@ from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  
 from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, parse_channels, train  # noqa: E402
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
+from legent_gym.tasks.household import PAPER_WHERE_IS  # noqa: E402
 
 TRAIN_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom")
 EVAL_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom", "WhereIs-TwoRoom")
@@ -133,7 +139,7 @@ def log(message: str) -> None:
 
 # -- 1. data ---------------------------------------------------------------------------------
 def collect_command(task: str, index: int, episodes: int, out: Path, scale: Scale, workers: int,
-                    perturb: float = 0.0, scan: bool = False) -> list[str]:
+                    perturb: float = 0.0, scan: bool = False, paper_where_is: bool = False) -> list[str]:
     command = [sys.executable, "-m", "legent_gym.cli", "collect", f"Legent/{task}-v0", "--episodes", str(episodes),
                "--out", str(out), "--format", "legent", "--workers", str(workers),
                "--seed", str(DATA_SEED + index * DATA_SEED_STRIDE), "--width", str(scale.image_size),
@@ -142,7 +148,16 @@ def collect_command(task: str, index: int, episodes: int, out: Path, scale: Scal
         command += ["--perturb", repr(perturb)]
     if scans(task, scan):
         command += ["--find-strategy", "scan"]
+    if task_options(task, paper_where_is):
+        command += ["--env-kwargs", json.dumps({"task_options": task_options(task, paper_where_is)})]
     return command
+
+
+def task_options(task: str, paper_where_is: bool) -> dict:
+    """The ``task_options`` of this task's envs (data and evaluation alike)."""
+    if paper_where_is and task.startswith("WhereIs"):
+        return {name: list(categories) for name, categories in PAPER_WHERE_IS.items()}
+    return {}
 
 
 def scans(task: str, scan: bool) -> bool:
@@ -150,18 +165,20 @@ def scans(task: str, scan: bool) -> bool:
     return scan and task.startswith("WhereIs")
 
 
-def data_folder(root: Path, task: str, perturb: float = 0.0, scan: bool = False) -> Path:
-    """``data/<task>``, with ``-scan`` for a scanning expert and ``-perturb<P>`` for
-    recovery data."""
-    name = task + ("-scan" if scans(task, scan) else "") + (f"-perturb{perturb!r}" if perturb else "")
+def data_folder(root: Path, task: str, perturb: float = 0.0, scan: bool = False, paper_where_is: bool = False) -> Path:
+    """``data/<task>``, with ``-paper`` for LEGENT's Where Is questions, ``-scan`` for a
+    scanning expert and ``-perturb<P>`` for recovery data."""
+    name = (task + ("-paper" if task_options(task, paper_where_is) else "") + ("-scan" if scans(task, scan) else "")
+            + (f"-perturb{perturb!r}" if perturb else ""))
     return root / "data" / name
 
 
-def collect_data(root: Path, scale: Scale, workers: int, perturb: float = 0.0, scan: bool = False) -> dict[str, Path]:
+def collect_data(root: Path, scale: Scale, workers: int, perturb: float = 0.0, scan: bool = False,
+                 paper_where_is: bool = False) -> dict[str, Path]:
     folders = {}
     for index, task in enumerate(TRAIN_TASKS):
-        folder = data_folder(root, task, perturb, scan)
-        command = collect_command(task, index, scale.large, folder, scale, workers, perturb, scan)
+        folder = data_folder(root, task, perturb, scan, paper_where_is)
+        command = collect_command(task, index, scale.large, folder, scale, workers, perturb, scan, paper_where_is)
         log(" ".join(["legent-gym", *command[3:]]))
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:
@@ -306,18 +323,29 @@ def table_rows(root: Path, scale: Scale, dagger: bool = False) -> list[tuple[str
     return rows
 
 
-def evaluate_rows(rows, scale: Scale, episodes: int, seed: int, workers: int) -> dict[str, dict[str, list]]:
+def evaluate_rows(rows, scale: Scale, episodes: int, seed: int, workers: int,
+                  paper_where_is: bool = False) -> dict[str, dict[str, list]]:
     jobs = [(spec, f"Legent/{task}-v0") for _, specs in rows for task, spec in specs.items()]
     # The same spec on the same task (the Where Is Sep model on two tasks is two jobs) runs once.
     unique = list(dict.fromkeys(jobs))
-    env_kwargs = {"width": scale.image_size, "height": scale.image_size}
-    results = dict(zip(unique, evaluate_many(unique, episodes, seed, env_kwargs, workers)))
+    results = {}
+    for options in ({}, task_options("WhereIs", paper_where_is)):  # Come Here's envs, then Where Is's
+        group = [job for job in unique if task_options(job[1].split("/")[1], paper_where_is) == options]
+        if not group:
+            continue
+        env_kwargs = {"width": scale.image_size, "height": scale.image_size,
+                      **({"task_options": options} if options else {})}
+        results.update(zip(group, evaluate_many(group, episodes, seed, env_kwargs, workers)))
     return {label: {task: results[(spec, f"Legent/{task}-v0")] for task, spec in specs.items()}
             for label, specs in rows}
 
 
 # -- 4. the table ----------------------------------------------------------------------------
-def markdown_table(ours: list[tuple[str, list[float]]], episodes: int) -> str:
+PAPER_WHERE_IS_NOTE = ("Where Is asks LEGENT's questions (`--paper-where-is`): an orange, apple, banana or cola "
+                       "on a sofa, chair, table, countertop or dresser.")
+
+
+def markdown_table(ours: list[tuple[str, list[float]]], episodes: int, paper_where_is: bool = False) -> str:
     lines = ["| Model | " + " | ".join(COLUMNS) + " |", "|---" * (len(COLUMNS) + 1) + "|"]
     for label, rates in PAPER_ROWS:
         lines.append(f"| {label} (paper) | " + " | ".join(f"{r:.2f}" for r in rates) + " |")
@@ -326,6 +354,8 @@ def markdown_table(ours: list[tuple[str, list[float]]], episodes: int) -> str:
     lines.append("")
     lines.append(f"Success rates; ours over {episodes} seeded episodes per task (the paper: 100). "
                  "\\* never trained on (generalisation).")
+    if paper_where_is:
+        lines.append(PAPER_WHERE_IS_NOTE)
     return "\n".join(lines) + "\n"
 
 
@@ -373,12 +403,13 @@ def bar_chart(ours: list[tuple[str, list[float]]], title: str) -> bytes:
 
 
 def write_tables(root: Path, scale_name: str, scale: Scale, ours: list[tuple[str, list[float]]],
-                 episodes: int) -> None:
+                 episodes: int, paper_where_is: bool = False) -> None:
     """``table.md``, ``table.csv`` and ``table.png``."""
-    atomic_write_text(root / "table.md", markdown_table(ours, episodes))
+    atomic_write_text(root / "table.md", markdown_table(ours, episodes, paper_where_is))
     atomic_write_text(root / "table.csv", csv_table(ours))
     title = (f"Table 3 reproduced, scale '{scale_name}' ({_amount(scale.small)} / {_amount(scale.large)} "
-             f"trajectories per task, {scale.image_size}x{scale.image_size} views, {episodes} episodes)")
+             f"trajectories per task, {scale.image_size}x{scale.image_size} views, {episodes} episodes"
+             + (", LEGENT's Where Is objects)" if paper_where_is else ")"))
     atomic_write_bytes(root / "table.png", bar_chart(ours, title))
 
 
@@ -390,13 +421,14 @@ def redraw(root: Path) -> None:
     results = json.loads(path.read_text())
     ours = [(label, [rates[task] for task in EVAL_TASKS]) for label, rates in results["success_rates"].items()]
     episodes = len(next(iter(next(iter(results["episodes"].values())).values())))
-    write_tables(root, results["scale"], Scale(**results["config"]), ours, episodes)
+    write_tables(root, results["scale"], Scale(**results["config"]), ours, episodes,
+                 results.get("paper_where_is", False))
 
 
 def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, extra: dict) -> list[tuple[str, list[float]]]:
     ours = [(label, [success_rate(evaluated[label][task]) for task in EVAL_TASKS]) for label in evaluated]
     episodes = len(next(iter(next(iter(evaluated.values())).values())))
-    write_tables(root, scale_name, scale, ours, episodes)
+    write_tables(root, scale_name, scale, ours, episodes, extra.get("paper_where_is", False))
     results = {"scale": scale_name, "config": asdict(scale), **extra,
                "success_rates": {label: dict(zip(EVAL_TASKS, rates)) for label, rates in ours},
                "episodes": {label: {task: [asdict(r) for r in runs] for task, runs in per_task.items()}
@@ -407,18 +439,22 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
         perturb: float = 0.0, scan: bool = False, dagger: bool = False,
-        channels: tuple[int, ...] | None = None, epochs_large: int | None = None, film: bool = False) -> dict:
+        channels: tuple[int, ...] | None = None, epochs_large: int | None = None, film: bool = False,
+        paper_where_is: bool = False) -> dict:
     """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
     look around first; ``dagger``: a DAgger round on the large Sep models (see the module
     docstring); ``channels`` and ``epochs_large`` replace the scale's encoder widths and
     its epochs on the large sets, ``film`` conditions the image encoder on the instruction
-    (use a new ``out``: the model folders keep their names)."""
+    (use a new ``out``: the model folders keep their names); ``paper_where_is``: Where Is
+    asks LEGENT's objects on LEGENT's receptacles."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
     if not 0.0 <= perturb < 1.0:
         raise ValueError(f"perturb must be in [0, 1), got {perturb}")
+    if paper_where_is and dagger:
+        raise ValueError("--paper-where-is does not combine with --dagger: DAgger rollouts use the default task")
     scale = SCALES[scale_name]
     if channels is not None:
         scale = replace(scale, channels=tuple(channels))
@@ -437,7 +473,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
 
     log(f"scale {scale_name}: {asdict(scale)}; output {out}")
     t = time.monotonic()
-    folders = collect_data(out, scale, workers, perturb, scan)
+    folders = collect_data(out, scale, workers, perturb, scan, paper_where_is)
     times["data"] = time.monotonic() - t
 
     t = time.monotonic()
@@ -458,14 +494,14 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     t = time.monotonic()
     rows = table_rows(out, scale, dagger)
     log(f"evaluating {len(rows)} rows x {len(EVAL_TASKS)} tasks x {episodes} episodes")
-    evaluated = evaluate_rows(rows, scale, episodes, eval_seed, workers)
+    evaluated = evaluate_rows(rows, scale, episodes, eval_seed, workers, paper_where_is)
     times["evaluation"] = time.monotonic() - t
 
     eval_houses = {r.house_seed for per_task in evaluated.values() for rs in per_task.values() for r in rs}
     overlap = len(eval_houses & data_house_seeds(folders, scale.large))
     times["total"] = time.monotonic() - started
     extra = {"workers": workers, "eval_seeds": [eval_seed, eval_seed + episodes - 1],
-             "perturb": perturb, "scan": scan, "dagger": scale.dagger_rollouts if dagger else 0,
+             "perturb": perturb, "scan": scan, "paper_where_is": paper_where_is, "dagger": scale.dagger_rollouts if dagger else 0,
              "data_seeds": {t: DATA_SEED + i * DATA_SEED_STRIDE for i, t in enumerate(TRAIN_TASKS)},
              "house_overlap_eval_vs_data": overlap, "wall_seconds": {k: round(v, 1) for k, v in times.items()},
              "training": {name: {"config": runs[name].to_dict(), "metrics": metrics[name]} for name in runs},
@@ -473,7 +509,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     ours = write_outputs(out, scale_name, scale, evaluated, extra)
     log(f"house seeds shared by evaluation and training data: {overlap}")
     log("wall time: " + ", ".join(f"{k} {v:.0f} s" for k, v in times.items()))
-    print(markdown_table(ours, episodes))
+    print(markdown_table(ours, episodes, paper_where_is))
     return {"rates": dict(ours), "times": times, "overlap": overlap}
 
 
@@ -495,6 +531,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                                       "16,32,64,128; session 8 measured 32,64,128,256)")
     p.add_argument("--epochs-large", type=int, help="epochs on the large sets (default: the scale's)")
     p.add_argument("--film", action="store_true", help="condition the image encoder on the instruction (FiLM)")
+    p.add_argument("--paper-where-is", action="store_true",
+                   help="Where Is asks LEGENT's objects (orange, apple, banana, cola) on its receptacle kinds")
     p.add_argument("--redraw", action="store_true", help="only rewrite the tables from OUT/results.json")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
@@ -504,7 +542,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         channels = parse_channels(args.channels) if args.channels else None
         run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger,
-            channels, args.epochs_large, args.film)
+            channels, args.epochs_large, args.film, args.paper_where_is)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2

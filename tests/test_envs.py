@@ -221,3 +221,55 @@ def test_dense_reward_is_progress_along_the_geodesic(env_id):
     _, info = sparse.reset(seed=5)
     assert info["distance_to_goal"] is None
     assert sparse.step("move_forward(0.5)")[4]["distance_to_goal"] is None
+
+
+def test_where_is_asks_legents_objects_on_legents_receptacles():
+    from legent_gym.experts import Expert
+    from legent_gym.tasks.household import (
+        PAPER_WHERE_IS,
+        PAPER_WHERE_IS_OBJECTS,
+        PAPER_WHERE_IS_RECEPTACLES,
+    )
+
+    for layout in ("OneRoom", "TwoRoom"):
+        env = gym.make(f"Legent/WhereIs-{layout}-v0", task_options=PAPER_WHERE_IS, **SMALL)
+        expert = Expert(env)
+        asked = set()
+        for seed in range(6):
+            env.reset(seed=seed)
+            world, goal = env.unwrapped.world, env.unwrapped.goal
+            asked.add(world.assets[goal.target].category)
+            assert world.assets[goal.target].category in PAPER_WHERE_IS_OBJECTS
+            assert world.assets[goal.receptacle].category in PAPER_WHERE_IS_RECEPTACLES
+            while True:  # the expert still answers every question
+                _, _, terminated, truncated, info = env.step(expert.action())
+                if terminated or truncated:
+                    break
+            assert info["success"], (layout, seed)
+        assert len(asked) > 1
+    # The same seed gives the same house and question.
+    twin = gym.make("Legent/WhereIs-TwoRoom-v0", task_options=PAPER_WHERE_IS, **SMALL)
+    a, b = env.reset(seed=4)[0], twin.reset(seed=4)[0]
+    assert a["instruction"] == b["instruction"] and np.array_equal(a["rgb"], b["rgb"])
+
+
+def test_no_task_options_leaves_every_episode_as_it_was():
+    # Conditions drawn for a restricted WhereIs come from the house seed, not the env's
+    # stream, so without options (or with none given) every task draws exactly as before
+    # task_options existed: these are the houses and questions recorded before it.
+    recorded = {("WhereIs", 3): (1742692731, "Where is the toy?"), ("WhereIs", 8): (1545220601, "Where's the toy?"),
+                ("ComeHere", 8): (1545220601, "Come to me.")}
+    for (task, seed), expected in recorded.items():
+        for options in (None, {}):
+            env = gym.make(f"Legent/{task}-OneRoom-v0", task_options=options, **SMALL)
+            obs, info = env.reset(seed=seed)
+            assert (info["house_seed"], obs["instruction"]) == expected
+
+
+def test_task_options_are_checked_by_name():
+    with pytest.raises(ValueError, match="no asset has the category 'unicorn'"):
+        gym.make("Legent/WhereIs-OneRoom-v0", task_options={"objects": ["apple", "unicorn"]})
+    with pytest.raises(ValueError, match="non-empty list"):
+        gym.make("Legent/WhereIs-OneRoom-v0", task_options={"receptacles": "sofa"})
+    with pytest.raises(ValueError, match="ComeHere does not take the options"):
+        gym.make("Legent/ComeHere-OneRoom-v0", task_options={"objects": ["apple"]})

@@ -22,6 +22,7 @@ from PIL import Image  # noqa: E402
 from baselines.reproduce_table import (  # noqa: E402
     EVAL_TASKS,
     PAPER_ROWS,
+    PAPER_WHERE_IS_NOTE,
     SCALES,
     TRAIN_TASKS,
     _trained,
@@ -30,7 +31,9 @@ from baselines.reproduce_table import (  # noqa: E402
     dagger_runs,
     data_folder,
     main,
+    markdown_table,
     run,
+    task_options,
     training_runs,
 )
 from baselines.vla.checkpoint import load_model  # noqa: E402
@@ -144,3 +147,19 @@ def test_scan_changes_only_the_where_is_data(tmp_path):
     assert where == tmp_path / "data" / "WhereIs-OneRoom-scan-perturb0.25"
     command = collect_command("WhereIs-OneRoom", 2, 5, where, scale, 1, perturb=0.25, scan=True)
     assert command[-4:] == ["--perturb", "0.25", "--find-strategy", "scan"]
+
+
+def test_paper_where_is_changes_only_the_where_is_data_and_envs(tmp_path):
+    scale = SCALES["small"]
+    assert data_folder(tmp_path, "ComeHere-OneRoom", 0.25, True, True) == tmp_path / "data" / "ComeHere-OneRoom-perturb0.25"
+    assert "--env-kwargs" not in collect_command("ComeHere-TwoRoom", 1, 5, tmp_path, scale, 1, paper_where_is=True)
+    where = data_folder(tmp_path, "WhereIs-OneRoom", 0.25, True, True)
+    assert where == tmp_path / "data" / "WhereIs-OneRoom-paper-scan-perturb0.25"
+    command = collect_command("WhereIs-OneRoom", 2, 5, where, scale, 1, 0.25, True, True)
+    options = json.loads(command[command.index("--env-kwargs") + 1])["task_options"]
+    assert options == {"objects": ["orange", "apple", "banana", "cola_can"],
+                       "receptacles": ["sofa", "chair", "dining_table", "coffee_table", "side_table",
+                                       "kitchen_counter", "dresser"]}
+    assert task_options("WhereIs-TwoRoom", True) == options and task_options("WhereIs-TwoRoom", False) == {}
+    assert PAPER_WHERE_IS_NOTE in markdown_table([("Random", [0.0] * 4)], 10, paper_where_is=True)
+    assert main(["--scale", "small", "--out", str(tmp_path), "--paper-where-is", "--dagger"]) == 2

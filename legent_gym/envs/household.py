@@ -37,7 +37,7 @@ from legent_gym.envs.action_spaces import (
 from legent_gym.tasks.base import TaskContext, TaskInstance
 from legent_gym.tasks.household import make_task
 from legent_gym.world.builder import BodyOptions, BuildOptions, build_world
-from legent_gym.world.generation import generate_house
+from legent_gym.world.generation import GenerationError, generate_house
 from legent_gym.world.navigation import NavGrid
 from legent_gym.world.render import Renderer
 from legent_gym.world.scene import Scene, load_scene
@@ -119,10 +119,13 @@ class HouseholdEnv(gym.Env):
     ``agent_radius``, ``agent_height``, ``camera_height`` (the body); ``distance_info``
     (``info["distance_to_goal"]`` every step, default True; the dense reward computes it
     anyway); ``render_mode``
-    ("rgb_array": a 256 px third-person view over the agent, or "depth_array").
+    ("rgb_array": a 256 px third-person view over the agent, or "depth_array");
+    ``task_options`` (the task's own arguments: WhereIs takes ``objects`` and
+    ``receptacles``, the categories it asks about; ``legent_gym.tasks.PAPER_WHERE_IS`` is
+    LEGENT's four objects on its five receptacle kinds).
 
     ## Version History
-    * v0: initial release.
+    * v0: initial release; ``task_options`` added later without changing any default episode.
     """
 
     metadata = {"render_modes": ["rgb_array", "depth_array"], "render_fps": 4}
@@ -133,7 +136,8 @@ class HouseholdEnv(gym.Env):
                  house_seed: int | None = None, house_pool: list[int] | None = None, depth: bool = False,
                  segmentation: bool = False, strict: bool = False, reach: float = DEFAULT_REACH,
                  agent_radius: float = 0.25, agent_height: float = 1.6, camera_height: float = 1.5,
-                 distance_info: bool = True, render_mode: str | None = None, render_size: int = 256):
+                 distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
+                 task_options: dict[str, Any] | None = None):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -146,7 +150,7 @@ class HouseholdEnv(gym.Env):
         self.width = int(width or preset["width"])
         self.height = int(height or preset["height"])
         self.task_name, self.layout, self.action_type = task, layout, action_type
-        self.task = make_task(task)
+        self.task = make_task(task, **(task_options or {}))
         self.reward_type, self.strict, self.reach = reward, strict, reach
         # The geodesic to the goal is measured only when something reads it.
         self.measure_distance = bool(distance_info) or reward == "dense"
@@ -192,7 +196,7 @@ class HouseholdEnv(gym.Env):
             seed = self.house_seed
         else:
             seed = int(rng.integers(2**31 - 1))
-        return generate_house(seed, self.layout, **self.task.house_conditions()), seed
+        return generate_house(seed, self.layout, **self.task.house_conditions(seed)), seed
 
     def _set_up(self, scene: Scene) -> None:
         if self._renderer is not None:
@@ -212,13 +216,22 @@ class HouseholdEnv(gym.Env):
         super().reset(seed=seed)
         options = options or {}
         rng = self.np_random
+        failure = None
         for attempt in range(HOUSE_RETRIES):
             tries = attempt + 1
             if "scene" in options:
                 scene = options["scene"] if isinstance(options["scene"], Scene) else load_scene(options["scene"])
                 house_seed = None
             else:
-                scene, house_seed = self._next_house(rng)
+                try:
+                    scene, house_seed = self._next_house(rng)
+                except GenerationError as err:
+                    # A task's condition this layout cannot meet (a kitchen counter asked of a
+                    # bedroom): draw another house, unless the house is fixed.
+                    if self.house_seed is not None or self.house_pool:
+                        raise
+                    failure = err
+                    continue
             self._set_up(scene)
             self.goal = self.task.sample(self.ctx, rng)
             if self.goal is not None:
@@ -226,7 +239,8 @@ class HouseholdEnv(gym.Env):
             if self._fixed_scene is not None or "scene" in options or (self.house_seed is not None and not self.house_pool):
                 raise ValueError(f"task {self.task_name} has no valid goal in house {scene.name!r}")
         else:
-            raise RuntimeError(f"no house in {HOUSE_RETRIES} tries offered a {self.task_name} goal")
+            raise RuntimeError(f"no house in {HOUSE_RETRIES} tries offered a {self.task_name} goal"
+                               + (f" (the last generation failed: {failure})" if failure else ""))
         self._house_seed_used = house_seed
         self._n_actions = 0
         evaluation = self.goal.evaluate(self.ctx)

@@ -185,8 +185,10 @@ class Task(ABC):
     #: Instruction paraphrases; ``{a}`` and ``{b}`` stand for object names.
     templates: tuple[str, ...] = ()
 
-    def house_conditions(self) -> dict[str, Any]:
-        """Generation conditions this task needs of a house (e.g. a minimum start distance)."""
+    def house_conditions(self, house_seed: int) -> dict[str, Any]:
+        """Generation conditions this task needs of the house of ``house_seed`` (e.g. a
+        minimum start distance). A condition drawn at random draws from the house seed, so
+        the same seed still gives the same house."""
         return {}
 
     @abstractmethod

@@ -18,10 +18,16 @@ the objects, and an estimated plan of at most ``PLAN_BUDGET`` actions).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
 
 from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
 from legent_gym.tasks.feasibility import PLAN_BUDGET, Leg, stand_leg, user_leg
+from legent_gym.world.assets import registry
+from legent_gym.world.generation.small_objects import PLAUSIBLE
 
 COME_HERE_DISTANCE = 2.0
 
@@ -91,7 +97,7 @@ class ComeHere(Task):
     templates = ("Come here.", "Come to me.", "Can you come over here?", "Please come here.",
                  "Come over here, please.", "Could you come to me?")
 
-    def house_conditions(self):
+    def house_conditions(self, house_seed):
         return {"min_user_distance": 3.0}  # LEGENT's evaluation starts at least 3 m apart
 
     def sample(self, ctx, rng):
@@ -217,16 +223,58 @@ class WhereIsInstance(TaskInstance):
         return {**super().describe(), "answers": list(self.answers)}
 
 
+#: LEGENT's Where Is data (LEGENT-FACTS.md): these objects ...
+PAPER_WHERE_IS_OBJECTS = ("orange", "apple", "banana", "cola_can")
+#: ... on these receptacles ("table" is any of ours named a table, "countertop" the kitchen counter).
+PAPER_WHERE_IS_RECEPTACLES = ("sofa", "chair", "dining_table", "coffee_table", "side_table", "kitchen_counter",
+                              "dresser")
+#: ``task_options`` for WhereIs that ask LEGENT's questions: ``gym.make(..., task_options=PAPER_WHERE_IS)``.
+PAPER_WHERE_IS = {"objects": PAPER_WHERE_IS_OBJECTS, "receptacles": PAPER_WHERE_IS_RECEPTACLES}
+
+
+def _categories(kind: str, given: Sequence[str] | None) -> tuple[str, ...] | None:
+    if given is None:
+        return None
+    if isinstance(given, str) or not given:
+        raise ValueError(f"WhereIs {kind} must be a non-empty list of asset categories, got {given!r}")
+    unknown = [c for c in given if not registry.by_category(c)]
+    if unknown:
+        raise ValueError(f"WhereIs {kind}: no asset has the category {', '.join(map(repr, unknown))}")
+    return tuple(given)
+
+
 class WhereIs(Task):
+    """Where is the A? Arguments (``task_options``): ``objects``, the categories that may be
+    asked about, and ``receptacles``, those they may rest on (default: any). When either is
+    given, every house is generated with one such object on one such receptacle (both drawn
+    from the house seed), as LEGENT's data did; :data:`PAPER_WHERE_IS` is LEGENT's set."""
+
     name = "WhereIs"
     templates = ("Where is the {a}?", "Where's the {a}?", "Do you know where the {a} is?",
                  "Can you tell me where the {a} is?", "I can't find the {a}. Where is it?")
+
+    def __init__(self, objects: Sequence[str] | None = None, receptacles: Sequence[str] | None = None):
+        self.objects = _categories("objects", objects)
+        self.receptacles = _categories("receptacles", receptacles)
+
+    def house_conditions(self, house_seed):
+        if self.objects is None and self.receptacles is None:
+            return {}
+        rng = np.random.default_rng([house_seed, 0x3E1])  # not the env's stream: other tasks' episodes stay
+        objects = self.objects or sorted({c for cs in PLAUSIBLE.values() for c in cs})
+        receptacles = self.receptacles or sorted(PLAUSIBLE)
+        # A receptacle the layout's rooms cannot hold fails generation; the env draws again.
+        return {"require_on": [(str(rng.choice(objects)), str(rng.choice(receptacles)))]}
+
+    def _allowed(self, ctx, target, host) -> bool:
+        return ((self.objects is None or ctx.world.assets[target].category in self.objects) and
+                (self.receptacles is None or ctx.world.assets[host].category in self.receptacles))
 
     def sample(self, ctx, rng):
         options = []
         for o in ctx.unique_objects(interactable=True):
             host = ctx.scene.object(o).on
-            if host is None:
+            if host is None or not self._allowed(ctx, o, host):
                 continue
             # The answer must name the host unambiguously: no other object shares a name with it.
             host_names = ctx.names_of(host)
@@ -289,11 +337,14 @@ class PutOn(Task):
 TASKS: dict[str, type[Task]] = {t.name: t for t in (ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn)}
 
 
-def make_task(name: str) -> Task:
+def make_task(name: str, **options: Any) -> Task:
+    """The task ``name`` with its ``options`` (keyword arguments of its class; only WhereIs has any)."""
+    if name not in TASKS:
+        raise ValueError(f"unknown task {name!r}; known: {', '.join(TASKS)}")
     try:
-        return TASKS[name]()
-    except KeyError:
-        raise ValueError(f"unknown task {name!r}; known: {', '.join(TASKS)}") from None
+        return TASKS[name](**options)
+    except TypeError as err:
+        raise ValueError(f"task {name} does not take the options {sorted(options)}: {err}") from None
 
 
-__all__ = ["TASKS", "make_task", "ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn"]
+__all__ = ["TASKS", "make_task", "PAPER_WHERE_IS", "ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn"]
