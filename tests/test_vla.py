@@ -376,6 +376,15 @@ def test_evaluate_cli(checkpoint, capsys):
     assert "success" in capsys.readouterr().out
     assert evaluate_main(["--policy", "missing.pt", "--env", "Legent/ComeHere-OneRoom-v0"]) == 2
     assert "neither 'random', 'expert' nor a checkpoint" in capsys.readouterr().err
+    # Further env arguments: the expert asked LEGENT's Where Is questions.
+    paper = '{"task_options": {"objects": ["orange", "apple", "banana", "cola_can"], "receptacles": ["sofa", "chair", "side_table", "coffee_table", "dresser"]}}'
+    assert evaluate_main(["--policy", "expert", "--env", "Legent/WhereIs-OneRoom-v0", "--episodes", "3",
+                          "--image-size", str(SIZE), "--env-kwargs", paper, "--json"]) == 0
+    episodes = [json.loads(line) for line in capsys.readouterr().out.splitlines() if line.startswith("{")]
+    assert len(episodes) == 3 and all(e["success"] for e in episodes)
+    assert all(any(w in e["instruction"] for w in ("orange", "apple", "banana", "cola")) for e in episodes)
+    assert evaluate_main(["--policy", "random", "--env", "Legent/WhereIs-OneRoom-v0", "--env-kwargs", "{oops"]) == 2
+    assert "--env-kwargs is not valid JSON" in capsys.readouterr().err
 
 
 def test_train_cli(datasets, tmp_path, capsys):

@@ -10,6 +10,8 @@ depend on the number of workers::
         --env Legent/ComeHere-OneRoom-v0 --episodes 100 --seed 0 --workers 2
 
 ``--policy`` is a checkpoint, ``random`` or ``expert`` (the task expert, privileged).
+``--env-kwargs`` passes further ``gym.make`` arguments as JSON, e.g. LEGENT's Where Is
+questions: ``--env-kwargs '{"task_options": {"objects": ["orange"], "receptacles": ["sofa"]}}'``.
 """
 
 from __future__ import annotations
@@ -106,6 +108,19 @@ def evaluate_many(jobs: Sequence[tuple[str, str]], episodes: int, seed: int, env
     return results
 
 
+def parse_env_kwargs(text: str | None) -> dict:
+    """``--env-kwargs``: a JSON object, or a ValueError that says what is wrong with it."""
+    if not text:
+        return {}
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise ValueError(f"--env-kwargs is not valid JSON: {err}") from None
+    if not isinstance(value, dict):
+        raise ValueError(f"--env-kwargs must be a JSON object, got {text!r}")
+    return value
+
+
 def success_rate(results: Sequence[EpisodeResult]) -> float:
     return sum(r.success for r in results) / len(results)
 
@@ -118,6 +133,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=0, help="episode i resets with seed + i")
     p.add_argument("--image-size", type=int, help="view size for random/expert (a checkpoint knows its own)")
     p.add_argument("--workers", type=int, default=1)
+    p.add_argument("--env-kwargs", help="JSON object of further gym.make arguments (e.g. task_options)")
     p.add_argument("--json", action="store_true", help="print every episode as JSON")
     args = p.parse_args(argv)
     try:
@@ -129,6 +145,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
             size = read_checkpoint(spec)["config"]["image_size"]
         env_kwargs = {"width": size, "height": size} if size else {}
+        env_kwargs.update(parse_env_kwargs(args.env_kwargs))
         all_results = evaluate_many([(spec, e) for e in args.env], args.episodes, args.seed, env_kwargs,
                                     args.workers)
     except (FileNotFoundError, ValueError) as err:
