@@ -148,8 +148,9 @@ def collect_command(task: str, index: int, episodes: int, out: Path, scale: Scal
         command += ["--perturb", repr(perturb)]
     if scans(task, scan):
         command += ["--find-strategy", "scan"]
-    if task_options(task, paper_where_is):
-        command += ["--env-kwargs", json.dumps({"task_options": task_options(task, paper_where_is)})]
+    options = task_options(task, paper_where_is)
+    if options:
+        command += ["--env-kwargs", json.dumps({"task_options": options})]
     return command
 
 
@@ -325,14 +326,14 @@ def table_rows(root: Path, scale: Scale, dagger: bool = False) -> list[tuple[str
 
 def evaluate_rows(rows, scale: Scale, episodes: int, seed: int, workers: int,
                   paper_where_is: bool = False) -> dict[str, dict[str, list]]:
-    jobs = [(spec, f"Legent/{task}-v0") for _, specs in rows for task, spec in specs.items()]
-    # The same spec on the same task (the Where Is Sep model on two tasks is two jobs) runs once.
-    unique = list(dict.fromkeys(jobs))
+    # The same spec on the same task (the Where Is Sep model on two tasks is two jobs) runs
+    # once; tasks whose envs take the same arguments are evaluated together.
+    groups: dict[str, tuple[dict, list[tuple[str, str]]]] = {}
+    for spec, task in dict.fromkeys((spec, task) for _, specs in rows for task, spec in specs.items()):
+        options = task_options(task, paper_where_is)
+        groups.setdefault(json.dumps(options, sort_keys=True), (options, []))[1].append((spec, f"Legent/{task}-v0"))
     results = {}
-    for options in ({}, task_options("WhereIs", paper_where_is)):  # Come Here's envs, then Where Is's
-        group = [job for job in unique if task_options(job[1].split("/")[1], paper_where_is) == options]
-        if not group:
-            continue
+    for options, group in groups.values():
         env_kwargs = {"width": scale.image_size, "height": scale.image_size,
                       **({"task_options": options} if options else {})}
         results.update(zip(group, evaluate_many(group, episodes, seed, env_kwargs, workers)))

@@ -122,19 +122,26 @@ def cmd_generate(args) -> int:
     return 0
 
 
-def cmd_collect(args) -> int:
+def parse_env_kwargs(text: str | None) -> dict:
+    """``--env-kwargs``: further ``gym.make`` arguments as a JSON object (``{}`` for none),
+    or a :class:`UserError` that says what is wrong with the text."""
     import json
 
+    if not text:
+        return {}
+    try:
+        env_kwargs = json.loads(text)
+    except json.JSONDecodeError as err:
+        raise UserError(f"--env-kwargs is not valid JSON: {err}") from None
+    if not isinstance(env_kwargs, dict):
+        raise UserError(f"--env-kwargs must be a JSON object, got {text!r}")
+    return env_kwargs
+
+
+def cmd_collect(args) -> int:
     from legent_gym.data.collect import CollectConfig, collect, describe
 
-    env_kwargs = {}
-    if args.env_kwargs:
-        try:
-            env_kwargs = json.loads(args.env_kwargs)
-        except json.JSONDecodeError as err:
-            raise UserError(f"--env-kwargs is not valid JSON: {err}") from None
-        if not isinstance(env_kwargs, dict):
-            raise UserError(f"--env-kwargs must be a JSON object, got {args.env_kwargs!r}")
+    env_kwargs = parse_env_kwargs(args.env_kwargs)
     for key, value in (("width", args.width), ("height", args.height), ("action_type", args.action_type),
                        ("max_episode_steps", args.max_steps)):
         if value is not None:

@@ -29,6 +29,7 @@ import gymnasium as gym
 
 import legent_gym  # noqa: F401  (registers the environments)
 from baselines.evaluate import EpisodeResult, ExpertBaseline, RandomPolicy, run_episodes
+from legent_gym.cli import UserError, parse_env_kwargs
 
 CHUNK = 10
 RANDOM, EXPERT = "random", "expert"
@@ -108,19 +109,6 @@ def evaluate_many(jobs: Sequence[tuple[str, str]], episodes: int, seed: int, env
     return results
 
 
-def parse_env_kwargs(text: str | None) -> dict:
-    """``--env-kwargs``: a JSON object, or a ValueError that says what is wrong with it."""
-    if not text:
-        return {}
-    try:
-        value = json.loads(text)
-    except json.JSONDecodeError as err:
-        raise ValueError(f"--env-kwargs is not valid JSON: {err}") from None
-    if not isinstance(value, dict):
-        raise ValueError(f"--env-kwargs must be a JSON object, got {text!r}")
-    return value
-
-
 def success_rate(results: Sequence[EpisodeResult]) -> float:
     return sum(r.success for r in results) / len(results)
 
@@ -148,7 +136,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         env_kwargs.update(parse_env_kwargs(args.env_kwargs))
         all_results = evaluate_many([(spec, e) for e in args.env], args.episodes, args.seed, env_kwargs,
                                     args.workers)
-    except (FileNotFoundError, ValueError) as err:
+    except (FileNotFoundError, ValueError, UserError) as err:
         print(f"evaluate: error: {err}", file=sys.stderr)
         return 2
     for env_id, results in zip(args.env, all_results):
