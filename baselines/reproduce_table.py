@@ -107,6 +107,7 @@ class Scale:
     layers: int = 3
     channels: tuple[int, ...] = (16, 32, 64, 128)  # the image encoder's widths
     film: bool = False    # the image encoder conditioned on the instruction (``--film``)
+    shift: int = 0        # random shift of training views, in pixels (``--shift``)
     dagger: int = 0       # DAgger rollouts per task (``--dagger``); 0: the large amount / 5
 
     @property
@@ -212,10 +213,10 @@ def training_runs(root: Path, folders: dict[str, Path], scale: Scale) -> dict[st
         for task in TRAIN_TASKS:
             name = f"sep{amount}-{task}"
             runs[name] = TrainConfig((str(folders[task]),), str(root / "models" / name), amount, epochs,
-                                     threads=1, model=model)
+                                     shift=scale.shift, threads=1, model=model)
     name = f"joint{scale.large}"
     runs[name] = TrainConfig(tuple(str(folders[t]) for t in TRAIN_TASKS), str(root / "models" / name),
-                             scale.large, scale.epochs_large, threads=1, model=model)
+                             scale.large, scale.epochs_large, shift=scale.shift, threads=1, model=model)
     return runs
 
 
@@ -248,7 +249,8 @@ def dagger_runs(root: Path, folders: dict[str, Path], dagger: dict[str, Path], s
     for task in TRAIN_TASKS:
         name = f"sep{scale.large}-{task}-dagger"
         runs[name] = TrainConfig((str(folders[task]), str(dagger[task])), str(root / "models" / name),
-                                 (scale.large, None), scale.epochs_large, threads=1, model=model)
+                                 (scale.large, None), scale.epochs_large, shift=scale.shift, threads=1,
+                                 model=model)
     return runs
 
 
@@ -263,7 +265,7 @@ def _trained(config: TrainConfig) -> bool:
     if not path.is_file():
         return False
     try:
-        return read_checkpoint(path).get("train_config") == config.to_dict()
+        return config.matches(read_checkpoint(path).get("train_config"))
     except (ValueError, OSError, RuntimeError):
         return False
 
@@ -272,7 +274,7 @@ def _train_one(config: TrainConfig) -> dict:
     # Resume an interrupted run of this configuration; start afresh over any other.
     last = Path(config.out) / LAST
     try:
-        resume = read_checkpoint(last).get("train_config") == config.to_dict()
+        resume = config.matches(read_checkpoint(last).get("train_config"))
     except (FileNotFoundError, ValueError, RuntimeError):
         resume = False
     return train(config, resume=resume, show_progress=False, epoch_lines=f"  {Path(config.out).name}")
@@ -441,13 +443,14 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
         perturb: float = 0.0, scan: bool = False, dagger: bool = False,
         channels: tuple[int, ...] | None = None, epochs_large: int | None = None, film: bool = False,
-        paper_where_is: bool = False) -> dict:
+        paper_where_is: bool = False, shift: int = 0) -> dict:
     """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
     look around first; ``dagger``: a DAgger round on the large Sep models (see the module
     docstring); ``channels`` and ``epochs_large`` replace the scale's encoder widths and
     its epochs on the large sets, ``film`` conditions the image encoder on the instruction
     (use a new ``out``: the model folders keep their names); ``paper_where_is``: Where Is
-    asks LEGENT's objects on LEGENT's receptacles."""
+    asks LEGENT's objects on LEGENT's receptacles; ``shift``: training views shifted at
+    random by up to that many pixels."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
@@ -466,6 +469,9 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
         scale = replace(scale, epochs_large=epochs_large)
     if film:
         scale = replace(scale, film=True)
+    if not 0 <= shift < scale.image_size // 2:
+        raise ValueError(f"shift must be in [0, {scale.image_size // 2}) pixels, got {shift}")
+    scale = replace(scale, shift=shift)
     episodes = episodes or scale.episodes
     if eval_seed + episodes > DATA_SEED:
         raise ValueError(f"evaluation seeds must stay below the data's ({DATA_SEED})")
@@ -534,6 +540,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--film", action="store_true", help="condition the image encoder on the instruction (FiLM)")
     p.add_argument("--paper-where-is", action="store_true",
                    help="Where Is asks LEGENT's objects (orange, apple, banana, cola) on its receptacle kinds")
+    p.add_argument("--shift", type=int, default=0,
+                   help="shift every training view by up to N pixels at random (0: none)")
     p.add_argument("--redraw", action="store_true", help="only rewrite the tables from OUT/results.json")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
@@ -543,7 +551,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 0
         channels = parse_channels(args.channels) if args.channels else None
         run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger,
-            channels, args.epochs_large, args.film, args.paper_where_is)
+            channels, args.epochs_large, args.film, args.paper_where_is, args.shift)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2

@@ -115,15 +115,18 @@ def test_bad_arguments_are_named(tmp_path):
         run("small", tmp_path / "c", workers=1, channels=(8, 8, 8, 8, 8))
     with pytest.raises(ValueError, match="epochs_large must be >= 1"):
         run("small", tmp_path / "c", workers=1, epochs_large=0)
+    with pytest.raises(ValueError, match="shift must be in"):
+        run("small", tmp_path / "c", workers=1, shift=-1)
     assert not (tmp_path / "c").exists()  # refused before anything was written
 
 
 def test_encoder_options_and_epochs_reach_every_large_model(tmp_path):
-    scale = dataclasses.replace(SCALES["small"], channels=(8, 16, 32, 64), epochs_large=5, film=True)
+    scale = dataclasses.replace(SCALES["small"], channels=(8, 16, 32, 64), epochs_large=5, film=True, shift=3)
     folders = {task: tmp_path / task for task in TRAIN_TASKS}
     runs = training_runs(tmp_path, folders, scale)
     assert {r.model.channels for r in runs.values()} == {(8, 16, 32, 64)}
     assert {r.model.film for r in runs.values()} == {True}
+    assert {r.shift for r in runs.values()} == {3}
     assert {r.epochs for name, r in runs.items() if str(scale.large) in name} == {5}
 
 

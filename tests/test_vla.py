@@ -30,7 +30,7 @@ from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many  # noqa: E402
 from baselines.vla.evaluate import main as evaluate_main  # noqa: E402
 from baselines.vla.model import VLA, ModelConfig  # noqa: E402
 from baselines.vla.policy import VLAPolicy  # noqa: E402
-from baselines.vla.train import FINAL, LAST, LOG, TrainConfig, train  # noqa: E402
+from baselines.vla.train import FINAL, LAST, LOG, TrainConfig, shift_views, train  # noqa: E402
 from baselines.vla.words import UNK, WordVocab  # noqa: E402
 from legent_gym.agent.actions import ActionParseError, parse_actions  # noqa: E402
 from legent_gym.data import CollectConfig, collect  # noqa: E402
@@ -319,6 +319,38 @@ def test_training_is_deterministic_and_resumes(datasets, tmp_path):
     assert len((tmp_path / "c" / LOG).read_text().splitlines()) == 2
     with pytest.raises(ValueError, match="another configuration"):
         train(_config(datasets, tmp_path / "c", lr=5e-4), resume=True, show_progress=False)
+
+
+def test_shifted_views_move_whole_images_and_repeat_the_edges():
+    views = torch.arange(2 * 3 * 8 * 8, dtype=torch.uint8).reshape(2, 3, 8, 8)
+    generator = torch.Generator().manual_seed(0)
+    moved = shift_views(views, 2, generator)
+    assert moved.shape == views.shape and moved.dtype == torch.uint8
+    assert torch.equal(shift_views(views, 0, generator), views)
+    for view, shifted in zip(views, moved):
+        # Some (dy, dx) in [-2, 2]^2 explains every pixel: the view moved, edges repeated.
+        found = [(dy, dx) for dy in range(-2, 3) for dx in range(-2, 3)
+                 if torch.equal(shifted, view[:, (torch.arange(8) + dy).clamp(0, 7)][:, :, (torch.arange(8) + dx).clamp(0, 7)])]
+        assert len(found) == 1
+    # Many views: every offset occurs, so the shift is drawn per view.
+    many = shift_views(torch.zeros(200, 1, 8, 8, dtype=torch.uint8).index_fill_(3, torch.tensor([4]), 255), 2,
+                       generator)
+    assert len({int(v[0, 0].argmax()) for v in many}) == 5
+
+
+def test_shift_trains_and_is_part_of_the_configuration(datasets, tmp_path):
+    plain = train(_config(datasets, tmp_path / "plain"), show_progress=False)
+    shifted = train(_config(datasets, tmp_path / "shifted", shift=3), show_progress=False)
+    assert np.isfinite(shifted["train_loss"]) and shifted["train_loss"] != plain["train_loss"]
+    stored = read_checkpoint(tmp_path / "shifted" / FINAL)["train_config"]
+    assert stored["shift"] == 3 and _config(datasets, tmp_path / "shifted", shift=3).matches(stored)
+    assert not _config(datasets, tmp_path / "shifted").matches(stored)
+    # A checkpoint written before the field existed is the same run as shift=0.
+    old = {k: v for k, v in read_checkpoint(tmp_path / "plain" / FINAL)["train_config"].items() if k != "shift"}
+    assert _config(datasets, tmp_path / "plain").matches(old)
+    assert not _config(datasets, tmp_path / "plain", shift=3).matches(old)
+    with pytest.raises(ValueError, match="shift must be in"):
+        _config(datasets, tmp_path, shift=16)
 
 
 def test_training_rejects_mismatched_data(datasets, tmp_path):

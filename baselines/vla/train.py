@@ -23,11 +23,12 @@ import os
 import sys
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import MISSING, asdict, dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
 import torch
+from torch.nn import functional as F
 from tqdm import tqdm
 
 from baselines.vla.checkpoint import build_model, read_checkpoint, save_checkpoint
@@ -59,6 +60,9 @@ class TrainConfig:
     weight_decay: float = 0.01
     warmup_steps: int = 100
     augment: bool = True
+    #: Random shift of every training view by up to this many pixels (edge pixels repeated
+    #: into the gap; 0: none), as DrQ and RAD do for pixel-based control learned from scratch.
+    shift: int = 0
     mirror: bool = True
     validation_fraction: float = 0.05
     bins: int = 37
@@ -81,12 +85,23 @@ class TrainConfig:
             raise ValueError(f"trajectories must be >= 1, got {self.trajectories}")
         if self.trajectories_per_batch < 1:
             raise ValueError(f"trajectories_per_batch must be >= 1, got {self.trajectories_per_batch}")
+        if not 0 <= self.shift < self.model.image_size // 2:
+            raise ValueError(f"shift must be in [0, {self.model.image_size // 2}) pixels, got {self.shift}")
         if not 0.0 <= self.validation_fraction < 1.0:
             raise ValueError(f"validation_fraction must be in [0, 1), got {self.validation_fraction}")
 
     def limit(self, dataset: int) -> int | None:
         """The number of trajectories to take from ``data[dataset]`` (None: all)."""
         return self.trajectories[dataset] if isinstance(self.trajectories, tuple) else self.trajectories
+
+    def matches(self, stored: dict | None) -> bool:
+        """Whether a checkpoint's ``train_config`` is this configuration. A key the
+        checkpoint lacks (a field added after it was written) counts as that field's
+        default, so older checkpoints of the same run are still recognised."""
+        if stored is None:
+            return False
+        defaults = {f.name: f.default for f in fields(self) if f.default is not MISSING}
+        return {**defaults, **stored} == self.to_dict()
 
     def to_dict(self) -> dict:
         trajectories = list(self.trajectories) if isinstance(self.trajectories, tuple) else self.trajectories
@@ -110,6 +125,22 @@ def augment(images: torch.Tensor, generator: torch.Generator) -> torch.Tensor:
     gain = 1.0 + 0.15 * (2 * torch.rand(n, 1, 1, 1, generator=generator) - 1)
     tint = 1.0 + 0.05 * (2 * torch.rand(n, 3, 1, 1, generator=generator) - 1)
     return (images.float() * gain * tint).clamp(0, 255).to(torch.uint8)
+
+
+def shift_views(images: torch.Tensor, pixels: int, generator: torch.Generator) -> torch.Tensor:
+    """Each view moved by its own random (dx, dy) in [-pixels, pixels]; the edge pixels are
+    repeated into the gap (DrQ's random shift). A 64 px view that shows a fruit 3 px wide at
+    a slightly different place each epoch cannot be learned by its exact pixels."""
+    if pixels <= 0:
+        return images
+    n, _, height, width = images.shape
+    padded = F.pad(images.float(), (pixels, pixels, pixels, pixels), mode="replicate")
+    dx = torch.randint(0, 2 * pixels + 1, (n,), generator=generator)
+    dy = torch.randint(0, 2 * pixels + 1, (n,), generator=generator)
+    rows = (dy[:, None] + torch.arange(height))[:, :, None]       # (n, H, 1)
+    cols = (dx[:, None] + torch.arange(width))[:, None, :]        # (n, 1, W)
+    moved = padded[torch.arange(n)[:, None, None], :, rows, cols]  # (n, H, W, C)
+    return moved.permute(0, 3, 1, 2).to(images.dtype).contiguous()
 
 
 def split(n: int, fraction: float, seed: int) -> tuple[np.ndarray, np.ndarray]:
@@ -176,7 +207,7 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
     loaded = load_data(config)
     state = read_checkpoint(out / LAST) if resume and (out / LAST).is_file() else None
     if state is not None:
-        if state["train_config"] != config.to_dict():
+        if not config.matches(state.get("train_config")):
             raise ValueError(f"{out / LAST} was written by another configuration; use a new --out "
                              "or drop --resume")
         model, vocab = build_model(state)
@@ -232,6 +263,8 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
         for batch in bar:
             if config.augment:
                 batch["images"] = augment(batch["images"], generator)
+            if config.shift:
+                batch["images"] = shift_views(batch["images"], config.shift, generator)
             batch = {k: v.to(config.device, non_blocking=True) for k, v in batch.items()}
             out_ = model(**{k: v for k, v in batch.items() if not k.startswith("target")})
             loss, _ = model.loss(out_, batch)
@@ -286,6 +319,8 @@ def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse
     p.add_argument("--batch-trajectories", type=int, default=16, help="trajectories per batch")
     p.add_argument("--lr", type=float, default=1e-3)
     p.add_argument("--no-augment", action="store_true", help="no colour jitter")
+    p.add_argument("--shift", type=int, default=0,
+                   help="shift every training view by up to N pixels at random (0: none)")
     p.add_argument("--no-mirror", action="store_true", help="no left-right mirrored trajectories")
     p.add_argument("--image-size", type=int, default=64, help="must match the data's views")
     p.add_argument("--d-model", type=int, default=128)
@@ -308,7 +343,7 @@ def parse_args(argv: Sequence[str] | None = None) -> tuple[TrainConfig, argparse
                         layers=args.layers, channels=channels, aux_weight=args.aux_weight,
                         film=args.film)
     config = TrainConfig(tuple(os.fspath(d) for d in args.data), args.out, args.trajectories, args.epochs,
-                         args.batch_trajectories, args.lr, augment=not args.no_augment, mirror=not args.no_mirror, seed=args.seed,
+                         args.batch_trajectories, args.lr, augment=not args.no_augment, shift=args.shift, mirror=not args.no_mirror, seed=args.seed,
                          threads=args.threads, device=args.device, model=model)
     return config, args
 
