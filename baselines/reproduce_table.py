@@ -71,7 +71,7 @@ if __package__ in (None, ""):  # run as a script: make `baselines` importable
 from baselines.vla.checkpoint import read_checkpoint  # noqa: E402
 from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  # noqa: E402
 from baselines.vla.model import ModelConfig  # noqa: E402
-from baselines.vla.train import FINAL, LAST, TrainConfig, parse_channels, train  # noqa: E402
+from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
 from legent_gym.tasks.household import PAPER_WHERE_IS  # noqa: E402
 
@@ -469,8 +469,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
         scale = replace(scale, epochs_large=epochs_large)
     if film:
         scale = replace(scale, film=True)
-    if not 0 <= shift < scale.image_size // 2:
-        raise ValueError(f"shift must be in [0, {scale.image_size // 2}) pixels, got {shift}")
+    check_shift(shift, scale.image_size)  # now, not after collecting
     scale = replace(scale, shift=shift)
     episodes = episodes or scale.episodes
     if eval_seed + episodes > DATA_SEED:

@@ -85,8 +85,7 @@ class TrainConfig:
             raise ValueError(f"trajectories must be >= 1, got {self.trajectories}")
         if self.trajectories_per_batch < 1:
             raise ValueError(f"trajectories_per_batch must be >= 1, got {self.trajectories_per_batch}")
-        if not 0 <= self.shift < self.model.image_size // 2:
-            raise ValueError(f"shift must be in [0, {self.model.image_size // 2}) pixels, got {self.shift}")
+        check_shift(self.shift, self.model.image_size)
         if not 0.0 <= self.validation_fraction < 1.0:
             raise ValueError(f"validation_fraction must be in [0, 1), got {self.validation_fraction}")
 
@@ -125,6 +124,12 @@ def augment(images: torch.Tensor, generator: torch.Generator) -> torch.Tensor:
     gain = 1.0 + 0.15 * (2 * torch.rand(n, 1, 1, 1, generator=generator) - 1)
     tint = 1.0 + 0.05 * (2 * torch.rand(n, 3, 1, 1, generator=generator) - 1)
     return (images.float() * gain * tint).clamp(0, 255).to(torch.uint8)
+
+
+def check_shift(pixels: int, image_size: int) -> None:
+    """A random shift must leave most of the view in place: fewer pixels than half its side."""
+    if not 0 <= pixels < image_size // 2:
+        raise ValueError(f"shift must be in [0, {image_size // 2}) pixels, got {pixels}")
 
 
 def shift_views(images: torch.Tensor, pixels: int, generator: torch.Generator) -> torch.Tensor:
