@@ -47,7 +47,8 @@ amount (:mod:`baselines.vla.dagger`). The model drives ``Scale.dagger`` rollouts
 training task (seeds ``20,000,000 + i * 1,000,000 + k``, disjoint from the data and the
 evaluation), the expert labels every state it reached, and a model is trained from scratch
 on the large set plus these rollouts (``models/sep<N>-<task>-dagger``). The rollouts go to
-``data/<task>-dagger-from-sep<N>``.
+``data/<task>-dagger-from-sep<N>`` (Where Is with ``--paper-where-is``:
+``data/WhereIs-OneRoom-paper-dagger-from-sep<N>``, rolled out on LEGENT's questions).
 """
 
 from __future__ import annotations
@@ -220,20 +221,25 @@ def training_runs(root: Path, folders: dict[str, Path], scale: Scale) -> dict[st
     return runs
 
 
-def dagger_folder(root: Path, task: str, scale: Scale) -> Path:
-    return root / "data" / f"{task}-dagger-from-sep{scale.large}"
+def dagger_folder(root: Path, task: str, scale: Scale, paper_where_is: bool = False) -> Path:
+    paper = "-paper" if task_options(task, paper_where_is) else ""
+    return root / "data" / f"{task}{paper}-dagger-from-sep{scale.large}"
 
 
-def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = False) -> dict[str, Path]:
-    """One DAgger round per training task: the large Sep model drives, the expert labels."""
+def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = False,
+                        paper_where_is: bool = False) -> dict[str, Path]:
+    """One DAgger round per training task: the large Sep model drives, the expert labels
+    (on the task its data asked: with ``paper_where_is``, LEGENT's Where Is questions)."""
     from baselines.vla.dagger import DaggerConfig, collect_dagger
 
     folders = {}
     for index, task in enumerate(TRAIN_TASKS):
-        folder = dagger_folder(root, task, scale)
+        folder = dagger_folder(root, task, scale, paper_where_is)
+        options = task_options(task, paper_where_is)
         config = DaggerConfig(str(root / "models" / f"sep{scale.large}-{task}" / FINAL), f"Legent/{task}-v0",
                               str(folder), scale.dagger_rollouts, DAGGER_SEED + index * DATA_SEED_STRIDE,
-                              workers, "scan" if scans(task, scan) else "direct")
+                              workers, "scan" if scans(task, scan) else "direct",
+                              {"task_options": options} if options else {})
         log(f"dagger {task}: {config.episodes} rollouts of sep{scale.large}-{task}")
         summary = collect_dagger(config, show_progress=False)
         log(f"dagger {task}: learner success {summary['learner_success']:.2f}, {summary['steps']} steps, "
@@ -457,8 +463,6 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
         raise ValueError(f"workers must be >= 1, got {workers}")
     if not 0.0 <= perturb < 1.0:
         raise ValueError(f"perturb must be in [0, 1), got {perturb}")
-    if paper_where_is and dagger:
-        raise ValueError("--paper-where-is does not combine with --dagger: DAgger rollouts use the default task")
     scale = SCALES[scale_name]
     if channels is not None:
         scale = replace(scale, channels=tuple(channels))
@@ -489,7 +493,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
 
     if dagger:
         t = time.monotonic()
-        rollouts = collect_dagger_data(out, scale, workers, scan)
+        rollouts = collect_dagger_data(out, scale, workers, scan, paper_where_is)
         times["dagger_data"] = time.monotonic() - t
         t = time.monotonic()
         more = dagger_runs(out, folders, rollouts, scale)

@@ -42,7 +42,7 @@ SCRIPT = Path(__file__).resolve().parents[1] / "baselines" / "reproduce_table.py
 OUR_ROWS = 6  # random, Sep small, Sep large, Joint, Sep large + DAgger, expert
 
 
-def check_outputs(out: Path, scale: str) -> dict:
+def check_outputs(out: Path, scale: str, paper_where_is: bool = False) -> dict:
     """The table in its three forms, the checkpoints and the record of the run."""
     config = SCALES[scale]
     md = (out / "table.md").read_text().splitlines()
@@ -69,9 +69,9 @@ def check_outputs(out: Path, scale: str) -> dict:
     model, _ = load_model(out / "models" / f"joint{config.large}" / "model.pt")
     assert model.config.image_size == config.image_size
     for task in TRAIN_TASKS:
-        progress = json.loads((out / "data" / task / "progress.json").read_text())
+        progress = json.loads((data_folder(out, task, paper_where_is=paper_where_is) / "progress.json").read_text())
         assert progress["progress"]["committed"] == config.large
-        dagger = json.loads((dagger_folder(out, task, config) / "dagger.json").read_text())
+        dagger = json.loads((dagger_folder(out, task, config, paper_where_is) / "dagger.json").read_text())
         assert dagger["episodes"] == config.dagger_rollouts and dagger["config"]["policy"].endswith(
             f"sep{config.large}-{task}/model.pt")
         # The DAgger model learned from the demonstrations and every rollout.
@@ -100,6 +100,28 @@ def test_small_scale_from_the_command_line(tmp_path):
     assert main(["--scale", "small", "--out", str(tmp_path), "--redraw"]) == 0
     assert (tmp_path / "table.md").read_text() == markdown and (tmp_path / "table.csv").read_text() == table
     assert (tmp_path / "table.png").stat().st_size > 10_000
+
+
+def test_paper_questions_with_dagger_and_film_from_the_command_line(tmp_path):
+    """The options that change what is trained, together: LEGENT's Where Is questions reach
+    the DAgger rollouts too, and every model has the FiLM encoder."""
+    done = subprocess.run([sys.executable, str(SCRIPT), "--scale", "small", "--dagger", "--paper-where-is",
+                           "--film", "--out", str(tmp_path)], capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert PAPER_WHERE_IS_NOTE in done.stdout
+    results = check_outputs(tmp_path, "small", paper_where_is=True)
+    assert results["paper_where_is"] is True
+    assert {entry["config"]["model"]["film"] for entry in results["training"].values()} == {True}
+    where = json.loads((dagger_folder(tmp_path, "WhereIs-OneRoom", SCALES["small"], True) / "dagger.json").read_text())
+    assert where["config"]["env_kwargs"] == {"task_options": task_options("WhereIs-OneRoom", True)}
+    assert dagger_folder(tmp_path, "WhereIs-OneRoom", SCALES["small"], True).name.startswith("WhereIs-OneRoom-paper-")
+    come = json.loads((dagger_folder(tmp_path, "ComeHere-OneRoom", SCALES["small"], True) / "dagger.json").read_text())
+    assert come["config"]["env_kwargs"] == {}
+    # Every Where Is episode, trained on or evaluated, asked about one of LEGENT's objects.
+    objects = ("orange", "apple", "banana", "cola")  # as the instructions name them
+    for per_task in results["episodes"].values():
+        for task in ("WhereIs-OneRoom", "WhereIs-TwoRoom"):
+            assert all(any(o in e["instruction"] for o in objects) for e in per_task[task]), task
 
 
 def test_bad_arguments_are_named(tmp_path):
@@ -165,4 +187,3 @@ def test_paper_where_is_changes_only_the_where_is_data_and_envs(tmp_path):
                                        "kitchen_counter", "dresser"]}
     assert task_options("WhereIs-TwoRoom", True) == options and task_options("WhereIs-TwoRoom", False) == {}
     assert PAPER_WHERE_IS_NOTE in markdown_table([("Random", [0.0] * 4)], 10, paper_where_is=True)
-    assert main(["--scale", "small", "--out", str(tmp_path), "--paper-where-is", "--dagger"]) == 2

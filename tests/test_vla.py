@@ -481,6 +481,13 @@ def test_dagger_labels_every_state_the_learner_reached_with_the_expert(checkpoin
     with pytest.raises(ValueError, match="other arguments"):
         collect_dagger(DaggerConfig(str(checkpoint), "Legent/ComeHere-OneRoom-v0", str(tmp_path / "d1"), 4,
                                     20_000_000), show_progress=False)
+    with pytest.raises(ValueError, match="other arguments"):
+        collect_dagger(dataclasses.replace(config, env_kwargs={"reward": "dense"}), show_progress=False)
+    # A summary written before env_kwargs existed is the same collection (rolled out with none).
+    stored = json.loads((tmp_path / "d1" / "dagger.json").read_text())
+    del stored["config"]["env_kwargs"]
+    (tmp_path / "d1" / "dagger.json").write_text(json.dumps(stored))
+    assert collect_dagger(config, show_progress=False)["episodes"] == 3
     # The rollouts train a model next to the demonstrations (each dataset with its own limit).
     out = tmp_path / "m"
     metrics = train(TrainConfig((str(tmp_path / "d1"),), str(out), (2,), 1, threads=1,
@@ -499,6 +506,10 @@ def test_dagger_cli_names_bad_arguments(checkpoint, tmp_path, capsys):
     assert dagger_main(bad_env) == 2 and "unknown environment id" in capsys.readouterr().err
     bad_strategy = ["--policy", str(checkpoint), "--out", str(tmp_path / "b"), *base, "--find-strategy", "peek"]
     assert dagger_main(bad_strategy) == 2 and "--find-strategy must be one of direct, scan" in capsys.readouterr().err
+    assert dagger_main([*bad_strategy[:-2], "--env-kwargs", "{not json"]) == 2
+    assert "--env-kwargs is not valid JSON" in capsys.readouterr().err
+    assert dagger_main([*bad_strategy[:-2], "--env-kwargs", '{"width": 32}']) == 2
+    assert "--env-kwargs may not set width" in capsys.readouterr().err
     (tmp_path / "c").mkdir()
     (tmp_path / "c" / "stray.txt").write_text("x")
     assert dagger_main(["--policy", str(checkpoint), "--out", str(tmp_path / "c"), *base]) == 2

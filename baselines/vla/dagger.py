@@ -32,12 +32,13 @@ import sys
 import time
 from collections.abc import Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import gymnasium as gym
 
 import legent_gym  # noqa: F401  (registers the environments)
+from legent_gym.cli import UserError, parse_env_kwargs
 from legent_gym.data.legent_format import LegentWriter, episode_pngs
 from legent_gym.data.rollout import Episode, make_env, record_episode
 from legent_gym.experts.planners import FIND_STRATEGIES
@@ -76,6 +77,9 @@ class DaggerConfig:
     seed: int
     workers: int = 1
     find_strategy: str = "direct"
+    #: Further ``gym.make`` arguments of the rollouts' env, as ``legent-gym collect
+    #: --env-kwargs`` takes them (e.g. ``task_options``: roll out on the task the data asks).
+    env_kwargs: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not os.path.isfile(self.policy):
@@ -89,6 +93,16 @@ class DaggerConfig:
         if self.find_strategy not in FIND_STRATEGIES:
             raise DaggerError(f"--find-strategy must be one of {', '.join(FIND_STRATEGIES)}, "
                               f"got {self.find_strategy!r}")
+        if not isinstance(self.env_kwargs, dict):
+            raise DaggerError(f"--env-kwargs must be a JSON object, got {self.env_kwargs!r}")
+        fixed = sorted({"width", "height"} & set(self.env_kwargs))
+        if fixed:
+            raise DaggerError(f"--env-kwargs may not set {', '.join(fixed)}: the views are the "
+                              "checkpoint's image size")
+        try:
+            json.dumps(self.env_kwargs)
+        except (TypeError, ValueError) as err:
+            raise DaggerError(f"--env-kwargs must be JSON values (they are stored with the data): {err}") from None
 
 
 _worker: tuple | None = None
@@ -102,7 +116,7 @@ def _init_worker(config: DaggerConfig) -> None:
     torch.set_num_threads(1)  # the workers are the parallelism
     global _worker
     size = read_checkpoint(config.policy)["config"]["image_size"]
-    env = make_env(config.env_id, {"width": size, "height": size}, expert=True,
+    env = make_env(config.env_id, {**config.env_kwargs, "width": size, "height": size}, expert=True,
                    find_strategy=config.find_strategy)
     _worker = (env, LearnerDriver(config.policy), config.env_id)
 
@@ -150,8 +164,9 @@ def _template(text: str) -> str | None:
 
 
 def _data_arguments(config: dict) -> dict:
-    # Everything the rollouts depend on: the worker count does not change them.
-    return {k: v for k, v in config.items() if k != "workers"}
+    # Everything the rollouts depend on: the worker count does not change them. A summary
+    # written before env_kwargs existed rolled out with none.
+    return {"env_kwargs": {}, **{k: v for k, v in config.items() if k != "workers"}}
 
 
 def collect_dagger(config: DaggerConfig, show_progress: bool = True) -> dict:
@@ -205,12 +220,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--out", required=True, help="output folder (LEGENT format under legent/)")
     p.add_argument("--workers", type=int, default=1)
     p.add_argument("--find-strategy", default="direct", help="the labelling expert's find(a): direct or scan")
+    p.add_argument("--env-kwargs", help="further gym.make arguments as a JSON object, as for legent-gym collect "
+                                        "(e.g. '{\"task_options\": {\"objects\": [\"apple\"]}}')")
     p.add_argument("--quiet", action="store_true")
     args = p.parse_args(argv)
     try:
+        env_kwargs = parse_env_kwargs(args.env_kwargs)
         summary = collect_dagger(DaggerConfig(args.policy, args.env, args.out, args.episodes, args.seed,
-                                              args.workers, args.find_strategy), show_progress=not args.quiet)
-    except DaggerError as err:
+                                              args.workers, args.find_strategy, env_kwargs),
+                                 show_progress=not args.quiet)
+    except (DaggerError, UserError) as err:
         print(f"dagger: error: {err}", file=sys.stderr)
         return 2
     print(f"dagger {args.env}: {summary['episodes']} rollouts, learner success {summary['learner_success']:.2f}, "
