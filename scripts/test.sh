@@ -3,5 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 LEGENT_EXTRAS="${LEGENT_EXTRAS:-dev,rl,multiagent,data,baselines}" bash scripts/setup.sh
-.venv/bin/ruff check legent_gym tests benchmarks
+.venv/bin/ruff check legent_gym tests benchmarks baselines examples
 exec .venv/bin/python -m pytest -n 2 -q "$@"
