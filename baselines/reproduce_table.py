@@ -150,9 +150,9 @@ def collect_command(task: str, index: int, episodes: int, out: Path, scale: Scal
         command += ["--perturb", repr(perturb)]
     if scans(task, scan):
         command += ["--find-strategy", "scan"]
-    options = task_options(task, paper_where_is)
-    if options:
-        command += ["--env-kwargs", json.dumps({"task_options": options})]
+    env_kwargs = task_env_kwargs(task, paper_where_is)
+    if env_kwargs:
+        command += ["--env-kwargs", json.dumps(env_kwargs)]
     return command
 
 
@@ -163,6 +163,17 @@ def task_options(task: str, paper_where_is: bool) -> dict:
     return {}
 
 
+def task_env_kwargs(task: str, paper_where_is: bool) -> dict:
+    """The ``gym.make`` arguments the task adds (``task_options``; none by default)."""
+    options = task_options(task, paper_where_is)
+    return {"task_options": options} if options else {}
+
+
+def _paper(task: str, paper_where_is: bool) -> str:
+    """The folder-name mark of data asked with LEGENT's questions."""
+    return "-paper" if task_options(task, paper_where_is) else ""
+
+
 def scans(task: str, scan: bool) -> bool:
     """Whether ``--scan`` changes this task's expert (only Where Is calls ``find``)."""
     return scan and task.startswith("WhereIs")
@@ -171,7 +182,7 @@ def scans(task: str, scan: bool) -> bool:
 def data_folder(root: Path, task: str, perturb: float = 0.0, scan: bool = False, paper_where_is: bool = False) -> Path:
     """``data/<task>``, with ``-paper`` for LEGENT's Where Is questions, ``-scan`` for a
     scanning expert and ``-perturb<P>`` for recovery data."""
-    name = (task + ("-paper" if task_options(task, paper_where_is) else "") + ("-scan" if scans(task, scan) else "")
+    name = (task + _paper(task, paper_where_is) + ("-scan" if scans(task, scan) else "")
             + (f"-perturb{perturb!r}" if perturb else ""))
     return root / "data" / name
 
@@ -222,8 +233,7 @@ def training_runs(root: Path, folders: dict[str, Path], scale: Scale) -> dict[st
 
 
 def dagger_folder(root: Path, task: str, scale: Scale, paper_where_is: bool = False) -> Path:
-    paper = "-paper" if task_options(task, paper_where_is) else ""
-    return root / "data" / f"{task}{paper}-dagger-from-sep{scale.large}"
+    return root / "data" / f"{task}{_paper(task, paper_where_is)}-dagger-from-sep{scale.large}"
 
 
 def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = False,
@@ -235,11 +245,10 @@ def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = Fal
     folders = {}
     for index, task in enumerate(TRAIN_TASKS):
         folder = dagger_folder(root, task, scale, paper_where_is)
-        options = task_options(task, paper_where_is)
         config = DaggerConfig(str(root / "models" / f"sep{scale.large}-{task}" / FINAL), f"Legent/{task}-v0",
                               str(folder), scale.dagger_rollouts, DAGGER_SEED + index * DATA_SEED_STRIDE,
                               workers, "scan" if scans(task, scan) else "direct",
-                              {"task_options": options} if options else {})
+                              task_env_kwargs(task, paper_where_is))
         log(f"dagger {task}: {config.episodes} rollouts of sep{scale.large}-{task}")
         summary = collect_dagger(config, show_progress=False)
         log(f"dagger {task}: learner success {summary['learner_success']:.2f}, {summary['steps']} steps, "
@@ -338,12 +347,11 @@ def evaluate_rows(rows, scale: Scale, episodes: int, seed: int, workers: int,
     # once; tasks whose envs take the same arguments are evaluated together.
     groups: dict[str, tuple[dict, list[tuple[str, str]]]] = {}
     for spec, task in dict.fromkeys((spec, task) for _, specs in rows for task, spec in specs.items()):
-        options = task_options(task, paper_where_is)
-        groups.setdefault(json.dumps(options, sort_keys=True), (options, []))[1].append((spec, f"Legent/{task}-v0"))
+        extra = task_env_kwargs(task, paper_where_is)
+        groups.setdefault(json.dumps(extra, sort_keys=True), (extra, []))[1].append((spec, f"Legent/{task}-v0"))
     results = {}
-    for options, group in groups.values():
-        env_kwargs = {"width": scale.image_size, "height": scale.image_size,
-                      **({"task_options": options} if options else {})}
+    for extra, group in groups.values():
+        env_kwargs = {"width": scale.image_size, "height": scale.image_size, **extra}
         results.update(zip(group, evaluate_many(group, episodes, seed, env_kwargs, workers)))
     return {label: {task: results[(spec, f"Legent/{task}-v0")] for task, spec in specs.items()}
             for label, specs in rows}

@@ -349,6 +349,11 @@ def test_shift_trains_and_is_part_of_the_configuration(datasets, tmp_path):
     old = {k: v for k, v in read_checkpoint(tmp_path / "plain" / FINAL)["train_config"].items() if k != "shift"}
     assert _config(datasets, tmp_path / "plain").matches(old)
     assert not _config(datasets, tmp_path / "plain", shift=3).matches(old)
+    # ... and so is one whose model lacks a later model field (film, default False).
+    old["model"] = {k: v for k, v in old["model"].items() if k != "film"}
+    assert _config(datasets, tmp_path / "plain").matches(old)
+    old["model"]["unknown_field"] = 1  # written by newer code: not this run
+    assert not _config(datasets, tmp_path / "plain").matches(old)
     with pytest.raises(ValueError, match="shift must be in"):
         _config(datasets, tmp_path, shift=16)
 

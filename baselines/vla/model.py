@@ -72,7 +72,8 @@ class ModelConfig:
 
     @classmethod
     def from_dict(cls, data: dict) -> ModelConfig:
-        return cls(**{**data, "channels": tuple(data["channels"])})
+        # A missing key (a checkpoint older than the field) takes the field's default.
+        return cls(**{**data, **({"channels": tuple(data["channels"])} if "channels" in data else {})})
 
 
 class ImageEncoder(nn.Module):

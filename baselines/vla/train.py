@@ -100,7 +100,12 @@ class TrainConfig:
         if stored is None:
             return False
         defaults = {f.name: f.default for f in fields(self) if f.default is not MISSING}
-        return {**defaults, **stored} == self.to_dict()
+        stored = {**defaults, **stored}
+        try:  # the model's own fields, the same way (ModelConfig fills in its defaults)
+            stored["model"] = ModelConfig.from_dict(stored["model"]).to_dict()
+        except (KeyError, TypeError, ValueError):
+            return False  # no model, or one with fields this code does not know
+        return stored == self.to_dict()
 
     def to_dict(self) -> dict:
         trajectories = list(self.trajectories) if isinstance(self.trajectories, tuple) else self.trajectories
