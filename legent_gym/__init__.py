@@ -9,7 +9,7 @@ Layers, from the bottom:
 * :mod:`legent_gym.experts` and :mod:`legent_gym.wrappers`: expert policies and wrappers.
 """
 
-from legent_gym import _gl  # noqa: F401  (must run before mujoco is imported)
+from legent_gym import gl_backend  # noqa: F401  (must run before mujoco is imported)
 
 __version__ = "0.1.0"
 

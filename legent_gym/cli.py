@@ -17,7 +17,7 @@ import argparse
 import sys
 from pathlib import Path
 
-from legent_gym import _gl  # noqa: F401
+from legent_gym import gl_backend  # noqa: F401
 
 
 class UserError(Exception):

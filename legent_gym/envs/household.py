@@ -9,7 +9,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from legent_gym import _gl  # noqa: F401  (before mujoco)
+from legent_gym import gl_backend  # noqa: F401  (before mujoco)
 from legent_gym.agent.actions import (
     ActionLimits,
     ActionParseError,

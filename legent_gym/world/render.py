@@ -30,7 +30,7 @@ from typing import Literal
 import mujoco
 import numpy as np
 
-from legent_gym import _gl  # noqa: F401  (before mujoco)
+from legent_gym import gl_backend  # noqa: F401  (before mujoco)
 from legent_gym.world.builder import (
     GROUP_AGENT,
     GROUP_CEILING,
