@@ -53,8 +53,8 @@ def bench(env_id: str, steps: int, size: int, resets: int, block: int = 50) -> d
     env.reset(seed=1)
     for a in actions[:20]:
         env.step(a)
-    world = base.world
-    reference = StockRender(base._ensure_renderer())
+    world = base.episode.world
+    reference = StockRender(base.episode.renderer)
     step_wall = step_cpu = render_wall = render_cpu = 0.0
     for first in range(0, steps, block):
         poses = []
@@ -64,7 +64,7 @@ def bench(env_id: str, steps: int, size: int, resets: int, block: int = 50) -> d
             poses.append(info["agent_pose"])
             if terminated or truncated:
                 # Keep the house: a reset here would measure generation, not stepping.
-                base.ctx.finished = False
+                base.episode.ctx.finished = False
         step_wall += time.perf_counter() - wall
         step_cpu += time.process_time() - cpu
         # The reference: the raw render of the same house from the same camera poses (it

@@ -1,6 +1,9 @@
 """Write docs/envs/*.md from the environments' Markdown-sectioned docstrings.
 
     python docs/gen_env_docs.py
+
+``household.md``: the Gymnasium ids (``HouseholdEnv``); ``multiagent.md``: the PettingZoo
+ids (``HouseholdParallelEnv``).
 """
 
 from __future__ import annotations
@@ -12,7 +15,8 @@ import gymnasium as gym
 
 import legent_gym
 from legent_gym.atomic import atomic_write_text
-from legent_gym.envs.registration import LAYOUTS, TASKS
+from legent_gym.envs.registration import ID_TABLE
+from legent_gym.tasks import MAX_ACTIONS
 
 OUT = Path(__file__).resolve().parent / "envs"
 
@@ -22,16 +26,30 @@ def page() -> str:
     module, name = env_class.split(":")
     cls = getattr(__import__(module, fromlist=[name]), name)
     doc = inspect.cleandoc(cls.__doc__)
-    ids = "\n".join(f"| `Legent/{t}-{layout}-v0` | {t} | {layout} | 25 |" for t in TASKS for layout in LAYOUTS)
+    ids = "\n".join(f"| `{env_id}` | {task} | {layout} | {MAX_ACTIONS} |" for env_id, task, layout in ID_TABLE)
     return (f"# Household environments\n\n"
             f"| id | task | layout | max steps |\n|---|---|---|---|\n{ids}\n\n"
             "Every id takes both action spaces: `gym.make(id)` (text) or "
             "`gym.make(id, action_type=\"continuous\")`.\n\n" + doc + "\n")
 
 
+def multiagent_page() -> str:
+    from legent_gym.multiagent.household import HouseholdParallelEnv
+
+    doc = inspect.cleandoc(HouseholdParallelEnv.__doc__)
+    return ("# Multi-agent household environments (PettingZoo)\n\n"
+            "The same ids as the single-agent envs, in PettingZoo's registry: "
+            "`pettingzoo.make(\"parallel\", id)` or `pettingzoo.make(\"aec\", id)` after "
+            f"`import legent_gym.multiagent`; `max_cycles` is {MAX_ACTIONS}.\n\n" + doc + "\n")
+
+
+PAGES = {"household.md": page, "multiagent.md": multiagent_page}
+
+
 def main() -> None:
-    atomic_write_text(OUT / "household.md", page())
-    print(f"wrote {OUT / 'household.md'}")
+    for name, make in PAGES.items():
+        atomic_write_text(OUT / name, make())
+        print(f"wrote {OUT / name}")
 
 
 if __name__ == "__main__":

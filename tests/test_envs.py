@@ -130,7 +130,7 @@ def test_observation_options_and_render_modes():
     assert env.render().shape == (256, 256, 3)
     paper = gym.make("Legent/ComeHere-OneRoom-v0", camera="paper")
     assert paper.reset(seed=0)[0]["rgb"].shape == (448, 448, 3)
-    assert paper.unwrapped.world.model.cam_fovy[paper.unwrapped.world.model.camera("agent_camera").id] == 120
+    assert paper.unwrapped.episode.world.model.cam_fovy[paper.unwrapped.episode.world.model.camera("agent_camera").id] == 120
 
 
 def test_fixed_house_options(example_scene_paths):
@@ -185,7 +185,20 @@ def test_env_docs_are_generated_from_the_docstring():
     for section in ("Description", "Action Space", "Observation Space", "Rewards", "Episode End",
                     "Arguments", "Version History"):
         assert f"## {section}" in text
-    assert (path.parent / "envs" / "household.md").read_text() == text
+    for name, make in module.PAGES.items():
+        assert (path.parent / "envs" / name).read_text() == make(), f"docs/envs/{name} is stale"
+
+
+def test_env_docstrings_list_arguments_one_per_line():
+    """Each env's ``## Arguments`` section is a list, one argument (or group) an item."""
+    from legent_gym.envs.household import HouseholdEnv
+    from legent_gym.multiagent.household import HouseholdParallelEnv
+
+    for cls in (HouseholdEnv, HouseholdParallelEnv):
+        section = cls.__doc__.split("## Arguments", 1)[1].split("##", 1)[0]
+        items = [line.strip() for line in section.strip().splitlines() if line.strip().startswith("* ")]
+        assert len(items) >= 8, cls.__name__
+        assert all(item.startswith("* ``") or item.startswith("* every") for item in items), items
 
 
 def test_geodesic_cache_is_bounded_as_the_goal_moves():
@@ -193,7 +206,7 @@ def test_geodesic_cache_is_bounded_as_the_goal_moves():
 
     env = gym.make("Legent/ComeHere-TwoRoom-v0", **SMALL)
     env.reset(seed=0)
-    ctx = env.unwrapped.ctx
+    ctx = env.unwrapped.episode.ctx
     walkable = np.argwhere(ctx.nav.walkable)[:: max(1, int(ctx.nav.walkable.sum()) // 60)]
     here = ctx.nav.to_cell(ctx.nav.nearest_walkable(tuple(ctx.agent.position)))
     for cell in walkable:
@@ -237,7 +250,7 @@ def test_where_is_asks_legents_objects_on_legents_receptacles():
         asked = set()
         for seed in range(6):
             env.reset(seed=seed)
-            world, goal = env.unwrapped.world, env.unwrapped.goal
+            world, goal = env.unwrapped.episode.world, env.unwrapped.episode.goal
             asked.add(world.assets[goal.target].category)
             assert world.assets[goal.target].category in PAPER_WHERE_IS_OBJECTS
             assert world.assets[goal.receptacle].category in PAPER_WHERE_IS_RECEPTACLES

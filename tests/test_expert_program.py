@@ -108,10 +108,10 @@ def test_executor_visits_every_goal_of_a_multi_goto_plan():
     # LEGENT's planner went to the first target only; ours walks to each in turn.
     env = gym.make("Legent/GoTo-TwoRoom-v0", width=32, height=32, max_episode_steps=60)
     env.reset(seed=0)
-    oracle_ids = [o.id for o in env.unwrapped.ctx.scene.objects if o.kind == "interactable"]
+    oracle_ids = [o.id for o in env.unwrapped.episode.ctx.scene.objects if o.kind == "interactable"]
     a, b = oracle_ids[0], oracle_ids[-1]
     executor = ProgramExecutor(env, f"goto({a}) goto({b})")
-    ctx = env.unwrapped.ctx
+    ctx = env.unwrapped.episode.ctx
     visited = set()
     for _ in range(60):
         before = executor.pc

@@ -137,7 +137,7 @@ def test_a_held_object_hides_nothing_from_the_view_tests():
 
     env = ExpertInfo(gym.make("Legent/BringMe-OneRoom-v0", width=32, height=32))
     _, info = env.reset(seed=0)
-    ctx = env.unwrapped.ctx
+    ctx = env.unwrapped.episode.ctx
     while ctx.agent.state.held is None:
         _, _, terminated, truncated, info = env.step(info["expert_action"])
         assert not (terminated or truncated)

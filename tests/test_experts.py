@@ -97,7 +97,7 @@ def test_sampled_goals_fit_the_budget(env_id):
     env = gym.make(env_id, width=32, height=32)
     for seed in range(3):
         env.reset(seed=seed)
-        ctx, goal = env.unwrapped.ctx, env.unwrapped.goal
+        ctx, goal = env.unwrapped.episode.ctx, env.unwrapped.episode.goal
         fetch = stand_leg(ctx, goal.target, "aim")
         assert fetch is not None
         if env_id.startswith("Legent/BringMe"):

@@ -74,7 +74,7 @@ def test_module_functions():
     assert isinstance(ma.env(), pettingzoo.AECEnv)
     module = ma.env_module("Legent/PutOn-FourRoom-v0")
     assert module.parallel_env().task_name == "PutOn" and module.env().unwrapped.layout == "FourRoom"
-    with pytest.raises(ValueError, match="unknown multi-agent env id"):
+    with pytest.raises(ValueError, match="unknown env id"):
         ma.env_module("Legent/Dance-OneRoom-v0")
 
 
@@ -216,7 +216,7 @@ def test_wrapper_passes_gymnasiums_checker_on_both_sides():
 def test_speech_reaches_the_other_side():
     env = ma.parallel_env(**SMALL)
     obs, _ = env.reset(seed=4)
-    instruction = env.goal.instruction
+    instruction = env.episode.goal.instruction
     assert obs["agent"]["instruction"] == obs["agent"]["message"] == instruction
     assert obs["user"]["instruction"] == instruction and obs["user"]["message"] == ""
     obs, *_ = env.step({"user": 'speak("Over here, by the window.")', "agent": 'speak("Where are you?")'})
@@ -236,7 +236,7 @@ def test_instruction_from_user():
     env = ma.parallel_env(instruction_from_user=True, **SMALL)
     obs, _ = env.reset(seed=4)
     assert obs["agent"]["instruction"] == obs["agent"]["message"] == ""
-    assert obs["user"]["instruction"] == env.goal.instruction
+    assert obs["user"]["instruction"] == env.episode.goal.instruction
     obs, *_ = env.step({"user": "rotate_right(10)", "agent": "rotate_right(10)"})
     assert obs["agent"]["instruction"] == ""
     obs, *_ = env.step({"user": 'speak("Come to the kitchen.")', "agent": "rotate_right(10)"})
@@ -292,8 +292,8 @@ def test_episode_truncates_for_both_after_max_cycles():
 def test_objects_pass_between_hands():
     env = ma.parallel_env(task="PickUp", **SMALL)
     env.reset(seed=1)
-    ctx = env.ctx
-    target = env.goal.target
+    ctx = env.episode.ctx
+    target = env.episode.goal.target
     x, y, _ = ctx.world.object_position(target)
     stand = ctx.nav.standing_point(target, reach=1.0)
     yaw = math.degrees(math.atan2(y - stand[1], x - stand[0]))
@@ -391,7 +391,7 @@ def test_repeat_instruction_reaches_the_agent():
     obs, _ = env.reset(seed=2)
     assert obs["instruction"] == ""
     obs, _, _, _, _ = env.step("rotate_right(0)")
-    assert obs["instruction"] == obs["message"] == env.goal.instruction
+    assert obs["instruction"] == obs["message"] == env.episode.goal.instruction
     with pytest.raises(ValueError, match="every"):
         ma.RepeatInstruction(every=0)
     with pytest.raises(ValueError, match="speed"):

@@ -319,7 +319,9 @@ _SIMPLE_ESCAPES = {'"': '"', "'": "'", "\\": "\\", "/": "/", "n": "\n", "t": "\t
 
 
 @dataclass(frozen=True)
-class _Token:
+class Token:
+    """One lexeme of action code."""
+
     kind: str  # NAME, NUMBER, STRING, LPAREN, RPAREN, COMMA, END
     value: str  # the name, the number's text, or the decoded string
     pos: int
@@ -332,8 +334,11 @@ class _Token:
         return repr(raw)
 
 
-class _Tokenizer:
-    """Splits action text into tokens; raises ActionParseError on malformed lexemes."""
+class Tokenizer:
+    """Splits action text into tokens; raises ActionParseError on malformed lexemes.
+
+    Public because the experts' intermediate-code parser (``experts/program.py``) reads the
+    same lexemes (names, numbers, quoted strings with the same escapes)."""
 
     def __init__(self, text: str):
         self.text = text
@@ -342,25 +347,25 @@ class _Tokenizer:
     def error(self, position: int, reason: str, message: str | None = None) -> ActionParseError:
         return ActionParseError(self.text, position, reason, message)
 
-    def tokens(self) -> list[_Token]:
-        out: list[_Token] = []
+    def tokens(self) -> list[Token]:
+        out: list[Token] = []
         while True:
             tok = self.next_token()
             out.append(tok)
             if tok.kind == "END":
                 return out
 
-    def next_token(self) -> _Token:
+    def next_token(self) -> Token:
         text, n = self.text, len(self.text)
         while self.i < n and text[self.i].isspace():
             self.i += 1
         start = self.i
         if start >= n:
-            return _Token("END", "", start, "")
+            return Token("END", "", start, "")
         ch = text[start]
         if ch in _PUNCT:
             self.i += 1
-            return _Token(_PUNCT[ch], ch, start, ch)
+            return Token(_PUNCT[ch], ch, start, ch)
         if ch in _NAME_START:
             return self.name()
         if ch in "\"'":
@@ -369,12 +374,12 @@ class _Tokenizer:
             return self.number()
         raise self.error(start, f"unexpected character {ch!r}")
 
-    def name(self) -> _Token:
+    def name(self) -> Token:
         start = self.i
         while self.i < len(self.text) and self.text[self.i] in _NAME_CHARS:
             self.i += 1
         word = self.text[start:self.i]
-        return _Token("NAME", word, start, word)
+        return Token("NAME", word, start, word)
 
     def digits(self) -> int:
         """Consume ASCII digits; return how many."""
@@ -383,7 +388,7 @@ class _Tokenizer:
             self.i += 1
         return self.i - start
 
-    def number(self) -> _Token:
+    def number(self) -> Token:
         """``[+-]? (digits ['.' digits] | '.' digits) [(e|E) [+-]? digits]``."""
         text, start = self.text, self.i
         if text[self.i] in "+-":
@@ -410,9 +415,9 @@ class _Tokenizer:
             if self.digits() == 0:
                 raise self.error(mark, f"malformed exponent in number {text[start:self.i]!r}")
         raw = text[start:self.i]
-        return _Token("NUMBER", raw, start, raw)
+        return Token("NUMBER", raw, start, raw)
 
-    def string(self) -> _Token:
+    def string(self) -> Token:
         text, start = self.text, self.i
         quote = text[start]
         self.i += 1
@@ -424,7 +429,7 @@ class _Tokenizer:
             ch = text[self.i]
             if ch == quote:
                 self.i += 1
-                return _Token("STRING", "".join(parts), start, text[start:self.i])
+                return Token("STRING", "".join(parts), start, text[start:self.i])
             if ch == "\\":
                 parts.append(self.escape())
             else:
@@ -476,14 +481,14 @@ class _Parser:
 
     def __init__(self, text: str):
         self.text = text
-        self.tokens = _Tokenizer(text).tokens()
+        self.tokens = Tokenizer(text).tokens()
         self.k = 0
 
     @property
-    def tok(self) -> _Token:
+    def tok(self) -> Token:
         return self.tokens[self.k]
 
-    def advance(self) -> _Token:
+    def advance(self) -> Token:
         tok = self.tokens[self.k]
         self.k += 1
         return tok
@@ -491,7 +496,7 @@ class _Parser:
     def error(self, position: int, reason: str, message: str | None = None) -> ActionParseError:
         return ActionParseError(self.text, position, reason, message)
 
-    def bad(self, tok: _Token, reason: str) -> ActionParseError:
+    def bad(self, tok: Token, reason: str) -> ActionParseError:
         """An error at ``tok`` that also shows what was found there (unless just ')')."""
         found = "" if tok.kind == "RPAREN" else f", found {tok.describe()}"
         return self.error(tok.pos, reason, f"{reason} at position {tok.pos}{found}")
@@ -535,7 +540,7 @@ class _Parser:
         self.advance()
         return cls() if arg is _ABSENT else cls(arg)
 
-    def unknown(self, tok: _Token) -> ActionParseError:
+    def unknown(self, tok: Token) -> ActionParseError:
         known = ", ".join(_CALLS)
         close = difflib.get_close_matches(tok.value.lower(), _CALLS, n=1)
         hint = f" (did you mean {close[0]}?)" if close else ""
@@ -569,17 +574,17 @@ class _Parser:
             raise self.bad(tok, f"{name}() takes an object id or a door id")
         raise self.bad(tok, f"{name}() takes an object id (a non-negative integer)")
 
-    def reject_non_finite(self, tok: _Token) -> None:
+    def reject_non_finite(self, tok: Token) -> None:
         if tok.kind == "NAME" and tok.value.lower() in _NON_FINITE_NAMES:
             raise self.error(tok.pos, f"non-finite number {tok.value!r}")
 
-    def finite(self, tok: _Token) -> float:
+    def finite(self, tok: Token) -> float:
         value = float(tok.value)  # the tokenizer only lets float()-readable text through
         if not math.isfinite(value):
             raise self.error(tok.pos, f"non-finite number {tok.value!r}")
         return value
 
-    def object_id(self, name: str, tok: _Token) -> int:
+    def object_id(self, name: str, tok: Token) -> int:
         if any(c in tok.value for c in ".eE"):
             raise self.bad(tok, f"{name}() needs an integer object id")
         try:
@@ -590,7 +595,7 @@ class _Parser:
             raise self.bad(tok, f"{name}() needs a non-negative object id")
         return value
 
-    def door_id(self, name: str, tok: _Token) -> str:
+    def door_id(self, name: str, tok: Token) -> str:
         if not tok.value:
             raise self.error(tok.pos, f"{name}() door id must not be empty")
         return tok.value
@@ -695,11 +700,12 @@ def _format_target(target: int | str | None) -> str:
     if target is None:
         return ""
     if isinstance(target, str):
-        return _quote(target)
+        return quote_string(target)
     return str(target)
 
 
-def _quote(text: str) -> str:
+def quote_string(text: str) -> str:
+    """``text`` as a quoted string literal of action code (what :class:`Tokenizer` reads back)."""
     # JSON escaping (double quotes, backslash, control characters) keeps unicode as is;
     # the tokenizer reads every escape json.dumps writes.
     return json.dumps(text, ensure_ascii=False)
@@ -711,7 +717,7 @@ def format_action(action: Action) -> str:
     if name is None:
         raise TypeError(f"not an action: {action!r}")
     if isinstance(action, Speak):
-        arg = _quote(action.text)
+        arg = quote_string(action.text)
     elif isinstance(action, MoveForward):
         arg = format_number(action.distance)
     elif isinstance(action, (RotateRight, RotateDown)):

@@ -24,7 +24,8 @@ import mujoco
 import numpy as np
 
 from legent_gym.agent.clearance import ClearanceMap
-from legent_gym.world.builder import GROUP_COLLISION, GROUP_HOUSE, GROUP_OBJECTS, World
+from legent_gym.world.builder import GROUP_COLLISION, World
+from legent_gym.world.rays import RayHit, cast_ray
 
 DEFAULT_REACH = 1.5
 PITCH_RANGE = (-60.0, 60.0)  # degrees; + looks down
@@ -42,17 +43,6 @@ class Outcome:
     reason: str | None = None
     moved: float = 0.0
     target: int | str | None = None
-
-
-@dataclass
-class Hit:
-    """What the image centre shows: a scene object, a door, or house structure."""
-
-    distance: float  # along the view ray, metres
-    point: np.ndarray
-    object_id: int | None = None
-    door_id: str | None = None
-    geom: int = -1
 
 
 @dataclass
@@ -121,6 +111,16 @@ class Body:
         same as updating after every primitive.
         """
         return _Batch(self)
+
+    def begin_batch(self) -> None:
+        """Hold world updates until the matching :meth:`end_batch` (see :meth:`batched`)."""
+        self._batch_depth += 1
+
+    def end_batch(self) -> None:
+        """Close a :meth:`begin_batch`; the outermost one brings the world up to date."""
+        self._batch_depth -= 1
+        if self._batch_depth == 0:
+            self._flush()
 
     def _flush(self) -> None:
         """Bring the world up to date with a batched pose change, if one is pending (also
@@ -217,32 +217,21 @@ class Body:
         return (self.world.options.user if self._other == "user" else self.world.options.agent).radius
 
     # -- looking ---------------------------------------------------------------------------
-    def look(self) -> Hit | None:
-        """What is at the image centre (the first visible surface along the view axis)."""
-        groups = np.zeros(6, dtype=np.uint8)
-        groups[GROUP_HOUSE] = groups[GROUP_OBJECTS] = 1
-        exclude = self.world.object_body[self.state.held] if self.state.held is not None else -1
-        geomid = np.zeros(1, dtype=np.int32)
-        direction = self.view_direction()
-        dist = mujoco.mj_ray(self.world.model, self.world.data, self.camera_position, direction, groups, 1,
-                             exclude, geomid)
-        if dist < 0:
-            return None
-        g = int(geomid[0])
-        obj = int(self.world.geom_object[g])
-        return Hit(dist, self.camera_position + direction * dist, obj if obj >= 0 else None,
-                   self.world.geom_door.get(g), g)
+    def look(self) -> RayHit | None:
+        """What is at the image centre (the first visible surface along the view axis; the
+        held object is no obstacle)."""
+        return cast_ray(self.world, self.camera_position, self.view_direction(), self.state.held)
 
     def horizontal_distance(self, point) -> float:
         return math.hypot(float(point[0]) - self.state.x, float(point[1]) - self.state.y)
 
-    def _in_reach(self, hit: Hit) -> str | None:
+    def _in_reach(self, hit: RayHit) -> str | None:
         d = self.horizontal_distance(hit.point)
         if d > self.reach or hit.distance > 2 * self.reach:
             return f"out of reach ({d:.2f} m away, reach {self.reach:.2f} m)"
         return None
 
-    def _resolve(self, target) -> tuple[Hit | None, str | None]:
+    def _resolve(self, target) -> tuple[RayHit | None, str | None]:
         """The hit to act on: what the image centre shows, or an addressed target."""
         self._flush()  # interactions see the world as it is after the moves before them
         if target is None:
@@ -254,19 +243,13 @@ class Body:
             if target not in self.world.door_joint:
                 return None, f"no door with id {target!r}"
             centre = self.world.data.xipos[self.world.door_body[target]]
-            hit = Hit(float(np.linalg.norm(centre - self.camera_position)), centre.copy(), door_id=target)
+            hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre.copy(), door_id=target)
             return hit, self._in_reach(hit)
         if target not in self.world.object_body:
             return None, f"no object with id {target}"
-        centre = self._object_centre(target)
-        hit = Hit(float(np.linalg.norm(centre - self.camera_position)), centre, object_id=int(target))
+        centre = self.world.object_centre(target)
+        hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre, object_id=int(target))
         return hit, self._in_reach(hit)
-
-    def _object_centre(self, object_id: int) -> np.ndarray:
-        lo, hi = self.world.assets[object_id].bounds()
-        body = self.world.object_body[object_id]
-        rot = self.world.data.xmat[body].reshape(3, 3)
-        return self.world.data.xpos[body] + rot @ ((lo + hi) / 2)
 
     # -- interactions ----------------------------------------------------------------------
     def grab(self, target: int | None = None) -> Outcome:
@@ -294,7 +277,7 @@ class Body:
             return Outcome(False, problem)
         if hit.object_id is None:
             return Outcome(False, "there is no surface to put things on at the image centre")
-        spot = self._free_spot(hit.object_id, hit.point if target is None else None, held)
+        spot = self.free_spot(hit.object_id, hit.point if target is None else None, held)
         if isinstance(spot, str):
             return Outcome(False, spot)
         self._release(held, spot)
@@ -324,7 +307,7 @@ class Body:
         return self._articulate(hit.door_id if hit.door_id else hit.object_id, opening=not is_open)
 
     # -- helpers ---------------------------------------------------------------------------
-    def _joint_for(self, hit: Hit, opening: bool | None = None) -> int | None:
+    def _joint_for(self, hit: RayHit, opening: bool | None = None) -> int | None:
         """The joint an open/close acts on: the door's hinge, or the looked-at furniture part."""
         if hit.door_id is not None:
             return self.world.door_joint.get(hit.door_id)
@@ -388,8 +371,9 @@ class Body:
             if model.geom_group[g] == GROUP_COLLISION:
                 model.geom_contype[g] = model.geom_conaffinity[g] = 1 if enabled else 0
 
-    def _free_spot(self, host: int, near: np.ndarray | None, item: int):
-        """Where on ``host``'s receptacles the item fits (near a looked-at point), or why not."""
+    def free_spot(self, host: int, near: np.ndarray | None, item: int) -> np.ndarray | str:
+        """Where on ``host``'s receptacles ``put`` would set ``item`` down (near a
+        looked-at point ``near``, else anywhere), or a sentence saying why nowhere."""
         world = self.world
         asset = world.assets[host]
         if not asset.receptacles:
@@ -463,14 +447,11 @@ class _Batch:
         self.body = body
 
     def __enter__(self) -> Body:
-        self.body._batch_depth += 1
+        self.body.begin_batch()
         return self.body
 
     def __exit__(self, *exc) -> None:
-        body = self.body
-        body._batch_depth -= 1
-        if body._batch_depth == 0:
-            body._flush()
+        self.body.end_batch()
 
 
 def _clamp(value: float, low: float, high: float) -> float:

@@ -158,7 +158,7 @@ class _Worker:
             from legent_gym.data.video import episode_map, episode_video
 
             result.video = episode_video(episode)
-            result.map_png = encode_png(episode_map(self.env.unwrapped.ctx.scene, episode))
+            result.map_png = encode_png(episode_map(self.env.unwrapped.episode.ctx.scene, episode))
         if "minari" not in self.formats:
             episode.observations = []  # the images travel as PNGs; spare the pipe
         return result

@@ -45,6 +45,7 @@ from gymnasium import spaces
 from legent_gym.agent.actions import (
     Action,
     ActionLimits,
+    ActionParseError,
     Close,
     Finish,
     Grab,
@@ -57,6 +58,7 @@ from legent_gym.agent.actions import (
     Speak,
     Step,
     format_action,
+    parse_actions,
 )
 
 __all__ = [
@@ -228,6 +230,20 @@ def dict_to_actions(action_dict: Mapping[str, Any]) -> Step:
     if _code(action_dict.get("finish", 0), "finish", 2):
         step.append(Finish())
     return tuple(step)
+
+
+def parse_step(action: Any, action_type: str) -> Step:
+    """The primitives of one env action: action code (a ``str``) in either action type, or
+    a dict action with ``action_type="continuous"``. Raises
+    :class:`~legent_gym.agent.actions.ActionParseError` (bad code, or not a string where
+    text is expected) or ``ValueError`` (a bad dict)."""
+    if action_type == "text":
+        if not isinstance(action, str):
+            raise ActionParseError(str(action), 0, f"expected action code as a string, got {type(action).__name__}")
+        return parse_actions(action)
+    if isinstance(action, str):
+        return parse_actions(action)
+    return dict_to_actions(action)
 
 
 # --------------------------------------------------------------------------------------

@@ -1,31 +1,45 @@
 """Table-driven registration of every environment id (run on ``import legent_gym``).
 
-Ids are ``Legent/<Task>-<Layout>-v0``. Both action spaces come from the same id:
-``gym.make(id)`` gives the text actions, ``gym.make(id, action_type="continuous")`` the
-Dict actions. Entry points are strings so that ``EnvSpec.to_json()`` works (Minari needs it).
+Ids are ``Legent/<Task>-<Layout>-v0`` for every task of :data:`legent_gym.tasks.TASKS` and
+every layout of :data:`LAYOUTS`, capped at :data:`legent_gym.tasks.MAX_ACTIONS` actions.
+Both action spaces come from the same id: ``gym.make(id)`` gives the text actions,
+``gym.make(id, action_type="continuous")`` the Dict actions. Entry points are strings so
+that ``EnvSpec.to_json()`` works (Minari needs it).
 """
 
 from __future__ import annotations
 
 import gymnasium as gym
 
-TASKS = ("ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn")
-LAYOUTS = ("OneRoom", "TwoRoom", "FourRoom")
-MAX_EPISODE_STEPS = 25  # the paper's evaluation cap
+from legent_gym.tasks import MAX_ACTIONS
+from legent_gym.tasks import TASKS as TASK_TABLE
 
-ENV_IDS: tuple[str, ...] = tuple(f"Legent/{task}-{layout}-v0" for task in TASKS for layout in LAYOUTS)
+#: The registered tasks, in the task table's order.
+TASKS: tuple[str, ...] = tuple(TASK_TABLE)
+#: The generation presets that get ids (``Apartment`` is a preset too, reached with ``layout=``).
+LAYOUTS = ("OneRoom", "TwoRoom", "FourRoom")
+#: (env id, task, layout) for every registered id.
+ID_TABLE: tuple[tuple[str, str, str], ...] = tuple((f"Legent/{task}-{layout}-v0", task, layout)
+                                                   for task in TASKS for layout in LAYOUTS)
+ENV_IDS: tuple[str, ...] = tuple(env_id for env_id, _, _ in ID_TABLE)
+
+
+def id_kwargs(env_id: str) -> dict[str, str]:
+    """``{"task": ..., "layout": ...}`` of a registered id."""
+    for known, task, layout in ID_TABLE:
+        if env_id == known:
+            return {"task": task, "layout": layout}
+    raise ValueError(f"unknown env id {env_id!r}; known: {', '.join(ENV_IDS)}")
 
 
 def register_envs() -> None:
-    for task in TASKS:
-        for layout in LAYOUTS:
-            env_id = f"Legent/{task}-{layout}-v0"
-            if env_id in gym.registry:
-                continue
-            gym.register(
-                id=env_id,
-                entry_point="legent_gym.envs.household:HouseholdEnv",
-                kwargs={"task": task, "layout": layout},
-                max_episode_steps=MAX_EPISODE_STEPS,
-                disable_env_checker=False,
-            )
+    for env_id, task, layout in ID_TABLE:
+        if env_id in gym.registry:
+            continue
+        gym.register(
+            id=env_id,
+            entry_point="legent_gym.envs.household:HouseholdEnv",
+            kwargs={"task": task, "layout": layout},
+            max_episode_steps=MAX_ACTIONS,
+            disable_env_checker=False,
+        )

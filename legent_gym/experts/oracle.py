@@ -5,8 +5,9 @@ are and what a ray would hit), which a policy never sees. Everything they read g
 :class:`Oracle`, so the privileged surface is small, documented and easy to audit: nothing
 in ``legent_gym.experts`` touches the env, the world or MuJoCo except through this class.
 
-The oracle reads the env's current episode lazily (``env.unwrapped.ctx``), so one oracle
-serves a whole sequence of resets. It never changes the world.
+The oracle reads the env's episode engine (``env.unwrapped.episode``, an
+:class:`~legent_gym.envs.episode.Episode`) lazily, so one oracle serves a whole sequence of
+resets. It never changes the world.
 """
 
 from __future__ import annotations
@@ -15,19 +16,16 @@ import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
 
 from legent_gym.agent.actions import ActionLimits
 from legent_gym.tasks import feasibility
+from legent_gym.tasks.base import TaskContext, TaskInstance
 from legent_gym.tasks.feasibility import yaw_pitch_to
-from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS
 from legent_gym.world.navigation import NavGrid
+from legent_gym.world.rays import RayHit, cast_ray
 
 __all__ = ["GoalView", "Oracle", "Pose", "RayHit", "direction_of", "yaw_pitch_to"]
-
-_VIEW_GROUPS = np.zeros(6, dtype=np.uint8)
-_VIEW_GROUPS[GROUP_HOUSE] = _VIEW_GROUPS[GROUP_OBJECTS] = 1
 
 
 @dataclass(frozen=True)
@@ -39,16 +37,6 @@ class Pose:
     y: float
     yaw: float
     pitch: float
-
-
-@dataclass(frozen=True)
-class RayHit:
-    """What a view ray from the head camera hits first."""
-
-    distance: float
-    point: np.ndarray
-    object_id: int | None
-    door_id: str | None
 
 
 @dataclass(frozen=True)
@@ -77,16 +65,19 @@ class Oracle:
     """Privileged, read-only access to an env's episode for experts.
 
     Args:
-        env: a ``HouseholdEnv`` or any wrapper of one.
+        env: an env with an episode engine and an action type (``HouseholdEnv``,
+            ``SingleAgentEnv``), or any wrapper of one.
     """
 
     def __init__(self, env):
-        self._env = env.unwrapped
+        unwrapped = env.unwrapped
+        self._episode = unwrapped.episode
+        self._action_type: str = unwrapped.action_type
 
     # -- the episode -----------------------------------------------------------------------
     @property
-    def _ctx(self):
-        ctx = self._env.ctx
+    def _ctx(self) -> TaskContext:
+        ctx = self._episode.ctx
         if ctx is None:
             raise RuntimeError("the env has no episode yet: call reset() first")
         return ctx
@@ -94,24 +85,24 @@ class Oracle:
     @property
     def episode_key(self) -> tuple:
         """Changes whenever the env starts a new episode (a new house or goal)."""
-        return (id(self._ctx), id(self._env.goal))
+        return (id(self._ctx), id(self._episode.goal))
 
     @property
     def task_name(self) -> str:
-        return self._env.task_name
+        return self._episode.task.name
 
     @property
-    def goal(self):
+    def goal(self) -> TaskInstance:
         """The sampled goal (a ``TaskInstance``: ``target``, ``receptacle``, ... object ids)."""
-        return self._env.goal
+        return self._episode.goal
 
     @property
     def limits(self) -> ActionLimits:
-        return self._env.limits
+        return self._episode.limits
 
     @property
     def action_type(self) -> str:
-        return self._env.action_type
+        return self._action_type
 
     @property
     def reach(self) -> float:
@@ -239,18 +230,8 @@ class Oracle:
         """What the head camera's centre ray would hit at this yaw and pitch (held object
         ignored), as ``Body.look`` sees it; from ``eye`` if given (a hypothetical stand)."""
         ctx = self._ctx
-        world = ctx.world
         eye = ctx.agent.camera_position if eye is None else np.asarray(eye, dtype=float)
-        direction = direction_of(yaw, pitch)
-        held = ctx.agent.state.held
-        exclude = world.object_body[held] if held is not None else -1
-        geomid = np.zeros(1, dtype=np.int32)
-        dist = mujoco.mj_ray(world.model, world.data, eye, direction, _VIEW_GROUPS, 1, exclude, geomid)
-        if dist < 0:
-            return None
-        g = int(geomid[0])
-        obj = int(world.geom_object[g])
-        return RayHit(float(dist), eye + direction * dist, obj if obj >= 0 else None, world.geom_door.get(g))
+        return cast_ray(ctx.world, eye, direction_of(yaw, pitch), ctx.agent.state.held)
 
     # -- navigation ------------------------------------------------------------------------
     def planning_grid(self) -> NavGrid:

@@ -29,7 +29,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 # The tokenizer and quoting of the action language: one lexical grammar for both languages.
-from legent_gym.agent.actions import ActionParseError, _quote, _Tokenizer, format_number
+from legent_gym.agent.actions import ActionParseError, Tokenizer, format_number, quote_string
 
 __all__ = ["INSTRUCTIONS", "Instruction", "Program", "ProgramError", "check_program", "format_program",
            "parse_program"]
@@ -83,7 +83,7 @@ class Instruction:
         if self.arg is None:
             return f"{self.name}()"
         if isinstance(self.arg, str):
-            return f"{self.name}({_quote(self.arg)})"
+            return f"{self.name}({quote_string(self.arg)})"
         return f"{self.name}({format_number(self.arg) if isinstance(self.arg, float) else self.arg})"
 
 
@@ -107,7 +107,7 @@ def parse_program(text: str) -> Program:
     if not isinstance(text, str):
         raise ProgramError(repr(text), -1, f"intermediate code must be a string, got {type(text).__name__}")
     try:
-        tokens = _Tokenizer(text).tokens()
+        tokens = Tokenizer(text).tokens()
     except ActionParseError as err:
         raise ProgramError(text, err.position, err.reason) from None
     out: list[Instruction] = []

@@ -1,11 +1,12 @@
 """The user and the agent, both learnable: a PettingZoo ``ParallelEnv`` over the household tasks.
 
 The single-agent :class:`~legent_gym.envs.household.HouseholdEnv` does all the work of the
-house, the task, the agent's step, reward and observation; this env owns one and adds the
-user's turn before it. Each parallel step:
+agent's step, reward and observation, through its episode engine
+(:class:`~legent_gym.envs.episode.Episode`: the house, the bodies, the task, the views);
+this env owns one and adds the user's turn before it, on the same engine. Each parallel step:
 
 1. the user's action runs on the user's body (moves, turns, interactions) through the same
-   code path as the agent's; the user's speech becomes the agent's ``message`` (and, with
+   code path as the agent's (:meth:`Episode.execute <legent_gym.envs.episode.Episode.execute>`); the user's speech becomes the agent's ``message`` (and, with
    ``instruction_from_user=True``, its first words become the agent's ``instruction``);
 2. the agent's action runs through ``HouseholdEnv.step``, which judges the task after both
    have acted; the agent's speech becomes the user's ``message``;
@@ -43,14 +44,15 @@ from legent_gym.agent.actions import (
     format_action,
 )
 from legent_gym.agent.body import Body, Outcome
-from legent_gym.envs.action_spaces import SPEECH_CHARSET
+from legent_gym.envs.action_spaces import SPEECH_CHARSET, parse_step
+from legent_gym.envs.episode import Episode
 from legent_gym.envs.household import MAX_TEXT, HouseholdEnv
+from legent_gym.tasks.base import MAX_ACTIONS
 from legent_gym.world.builder import GROUP_COLLISION
 from legent_gym.world.render import FreeCamera, Renderer
 
 USER, AGENT = "user", "agent"
 REWARD_MODES = ("team", "per_agent")
-DEFAULT_MAX_CYCLES = 25  # the paper's evaluation cap, as in the single-agent ids
 _SPEECH_CHARS = frozenset(SPEECH_CHARSET)
 
 
@@ -109,19 +111,27 @@ class HouseholdParallelEnv(ParallelEnv):
     step, dearer than the step itself.
 
     ## Arguments
-    ``task``, ``layout``, ``action_type``, ``max_cycles``, ``rewards``,
-    ``instruction_from_user``, ``distance_info`` (default False, see Info), ``render_mode``
-    (``"rgb_array"``: a third-person view of both), ``render_size``; every other keyword goes to ``HouseholdEnv`` (``width``,
-    ``height``, ``fovy``, ``camera``, ``reward``, ``scene``, ``house_seed``, ``house_pool``,
-    ``depth``, ``segmentation``, ``strict``, ``reach``, ...). The user's camera takes the
-    agent's field of view.
+    * ``task``: ComeHere, GoTo, PickUp, BringMe, WhereIs or PutOn.
+    * ``layout``: the generation preset of new houses: OneRoom, TwoRoom, FourRoom or
+      Apartment.
+    * ``action_type``: ``"text"`` (default) or ``"continuous"``, for both sides.
+    * ``max_cycles``: parallel steps before both truncate (25).
+    * ``rewards``: ``"team"`` (default) or ``"per_agent"`` (see Rewards).
+    * ``instruction_from_user``: the user's first words become the agent's instruction.
+    * ``distance_info``: ``info["distance_to_goal"]`` every step (default False, see Info).
+    * ``render_mode``: ``"rgb_array"``, a third-person view of both.
+    * ``render_size``: the ``render()`` image's side in pixels (256).
+    * every other keyword goes to ``HouseholdEnv`` (``width``, ``height``, ``fovy``,
+      ``camera``, ``reward``, ``scene``, ``house_seed``, ``house_pool``, ``depth``,
+      ``segmentation``, ``strict``, ``reach``, ...). The user's camera takes the agent's
+      field of view.
     """
 
     metadata = {"name": "legent_household_v0", "render_modes": ["rgb_array"], "render_fps": 4,
                 "is_parallelizable": True}
 
     def __init__(self, task: str = "ComeHere", layout: str = "OneRoom", action_type: str = "text", *,
-                 max_cycles: int = DEFAULT_MAX_CYCLES, rewards: str = "team", instruction_from_user: bool = False,
+                 max_cycles: int = MAX_ACTIONS, rewards: str = "team", instruction_from_user: bool = False,
                  distance_info: bool = False, render_mode: str | None = None, render_size: int = 256,
                  **household_kwargs: Any):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
@@ -133,8 +143,9 @@ class HouseholdParallelEnv(ParallelEnv):
             raise ValueError(f"max_cycles must be a positive integer, got {max_cycles!r}")
         self.core = HouseholdEnv(task, layout, action_type, distance_info=distance_info, **household_kwargs)
         # The user's eyes get the agent's field of view (the builder's default user is 90 degrees).
-        options = self.core.build_options
-        self.core.build_options = replace(options, user=replace(options.user, fovy=options.agent.fovy))
+        episode = self.core.episode
+        episode.build_options = replace(episode.build_options,
+                                        user=replace(episode.build_options.user, fovy=episode.build_options.agent.fovy))
         self.task_name, self.layout, self.action_type = task, layout, action_type
         self.max_cycles = int(max_cycles)
         self.rewards_mode = rewards
@@ -165,30 +176,20 @@ class HouseholdParallelEnv(ParallelEnv):
 
     # -- privileged state, for scripted user policies, experts and analysis ----------------
     @property
-    def ctx(self):
-        return self.core.ctx
-
-    @property
-    def goal(self):
-        return self.core.goal
-
-    @property
-    def world(self):
-        return self.core.world
-
-    @property
-    def limits(self):
-        return self.core.limits
+    def episode(self) -> Episode:
+        """The episode engine both sides act in (the single-agent env's)."""
+        return self.core.episode
 
     # -- PettingZoo API ------------------------------------------------------------------
     def reset(self, seed: int | None = None, options: dict | None = None):
         agent_obs, agent_info = self.core.reset(seed=seed, options=options)
-        if self.core.ctx.scene.user is None:
-            raise ValueError(f"house {self.core.ctx.scene.name!r} has no user: a multi-agent env needs "
+        scene = self.episode.require().scene
+        if scene.user is None:
+            raise ValueError(f"house {scene.name!r} has no user: a multi-agent env needs "
                              "a 'user' spawn in the scene")
         self.agents = list(self.possible_agents)
         self.cycles = 0
-        instruction = self.core.goal.instruction
+        instruction = self.episode.goal.instruction
         self._agent_instruction = "" if self.instruction_from_user else instruction
         self._agent_hears = self._agent_instruction
         self._user_hears = ""
@@ -208,7 +209,8 @@ class HouseholdParallelEnv(ParallelEnv):
         if missing:
             raise ValueError(f"actions must hold one entry per live agent: missing {missing} "
                              "(the user may pass None to do nothing)")
-        ctx = self.core.ctx
+        episode = self.episode
+        ctx = episode.require()
         user_text, user_results, user_error = self._user_turn(actions[USER])
         distance_after_user = None
         if self.rewards_mode == "per_agent" and self.core.reward_type == "dense":
@@ -216,15 +218,15 @@ class HouseholdParallelEnv(ParallelEnv):
 
         said_before = len(ctx.speech)
         carried = ctx.user.state.held
-        carried_at = self.core.world.object_position(carried) if carried is not None else None
+        carried_at = ctx.world.object_position(carried) if carried is not None else None
         agent_obs, reward, terminated, _, agent_info = self.core.step(actions[AGENT])
-        if carried is not None and (ctx.agent.state.held == carried or _collides(self.core.world, carried)):
+        if carried is not None and (ctx.agent.state.held == carried or _collides(ctx.world, carried)):
             ctx.user.state.held = None  # the agent took it out of the user's hands (and maybe put it down)
-        elif carried is not None and not np.array_equal(carried_at, self.core.world.object_position(carried)):
+        elif carried is not None and not np.array_equal(carried_at, ctx.world.object_position(carried)):
             # Physics the agent's turn ran (settling a put object, a drawer) moved what the
             # user carries: back into the user's hands, and the agent's view drawn again.
             self._restore_carried(ctx.user)
-            agent_obs.update(self._views("agent"))
+            agent_obs.update(episode.views(AGENT))
         if len(ctx.speech) > said_before:
             self._user_hears = to_speech(ctx.speech[-1])
 
@@ -245,12 +247,12 @@ class HouseholdParallelEnv(ParallelEnv):
         if action is None:
             return "", [], None
         try:
-            primitives = self.core._to_primitives(action)
+            primitives = parse_step(action, self.action_type)
         except (ActionParseError, ValueError) as err:
             if self.core.strict:
                 raise
             return "", [], str(err)
-        ctx = self.core.ctx
+        ctx = self.episode.require()
         results = []
         with ctx.user.batched():  # as for the agent: one world update for the step's moves and turns
             for primitive in primitives:
@@ -261,10 +263,11 @@ class HouseholdParallelEnv(ParallelEnv):
         return ", ".join(r["action"] for r in results), results, None
 
     def _user_execute(self, primitive) -> Outcome:
-        ctx = self.core.ctx
+        episode = self.episode
+        ctx = episode.require()
         match primitive:
             case Speak():
-                spoken, note = clip_action(primitive, self.core.limits)
+                spoken, note = clip_action(primitive, episode.limits)
                 words = to_speech(spoken.text)
                 self._agent_hears = words
                 if self.instruction_from_user and not self._agent_instruction:
@@ -273,10 +276,10 @@ class HouseholdParallelEnv(ParallelEnv):
             case Finish():
                 return Outcome(False, "the user cannot finish the episode: only the agent's finish() ends it")
         held = ctx.agent.state.held
-        before = self.core.world.object_position(held) if held is not None else None
-        outcome = self.core._execute(primitive, body=ctx.user)
+        before = ctx.world.object_position(held) if held is not None else None
+        outcome = episode.execute(primitive, body=ctx.user)
         if held is not None and ctx.agent.state.held == held and \
-                not np.array_equal(before, self.core.world.object_position(held)):
+                not np.array_equal(before, ctx.world.object_position(held)):
             self._restore_carried(ctx.agent)  # physics of the user's put or drawer moved it
         if held is not None and isinstance(primitive, Grab | Interact) and outcome.ok and outcome.target == held:
             outcome.reason = "taken from the agent's hands"
@@ -288,18 +291,9 @@ class HouseholdParallelEnv(ParallelEnv):
         body.place(s.x, s.y, s.yaw, s.pitch)  # re-syncs the held object into the hand
 
     # -- observations, rewards, infos -------------------------------------------------------
-    def _views(self, who: str) -> dict[str, np.ndarray]:
-        renderer = self.core._ensure_renderer()
-        views = {"rgb": renderer.rgb(who)}
-        if self.core.observe_depth:
-            views["depth"] = renderer.depth(who)
-        if self.core.observe_segmentation:
-            views["segmentation"] = renderer.segmentation(who)
-        return views
-
     def _user_observation(self) -> dict[str, Any]:
-        views = self._views(USER)
-        obs = {"rgb": views.pop("rgb"), "instruction": self.core.goal.instruction, "message": self._user_hears}
+        views = self.episode.views(USER)
+        obs = {"rgb": views.pop("rgb"), "instruction": self.episode.goal.instruction, "message": self._user_hears}
         obs.update(views)
         return obs
 
@@ -323,7 +317,7 @@ class HouseholdParallelEnv(ParallelEnv):
         info = {k: v for k, v in agent_info.items() if k not in ("action_text", "action_results", "action_error",
                                                                  "attempts")}
         info["task"] = dict(agent_info["task"])
-        info["held"] = self.core.ctx.user.state.held
+        info["held"] = self.episode.require().user.state.held
         info["n_actions"] = self.cycles
         info["action_text"] = ""
         info["action_results"] = results
@@ -333,14 +327,15 @@ class HouseholdParallelEnv(ParallelEnv):
 
     # -- rendering and closing -------------------------------------------------------------
     def render(self):
-        if self.render_mode is None or self.core.world is None:
+        world = self.episode.world
+        if self.render_mode is None or world is None:
             return None
-        if self._view_world is not self.core.world:  # a new house since the last frame
+        if self._view_world is not world:  # a new house since the last frame
             if self._view_renderer is not None:
                 self._view_renderer.close()
-            self._view_renderer = Renderer(self.core.world, self.render_size, self.render_size, "fast")
-            self._view_world = self.core.world
-        a, u = self.core.ctx.agent.state, self.core.ctx.user.state
+            self._view_renderer = Renderer(world, self.render_size, self.render_size, "fast")
+            self._view_world = world
+        a, u = self.episode.ctx.agent.state, self.episode.ctx.user.state
         gap = math.hypot(u.x - a.x, u.y - a.y)
         side = math.degrees(math.atan2(u.y - a.y, u.x - a.x)) - 90.0  # look across the line joining them
         camera = FreeCamera(((a.x + u.x) / 2, (a.y + u.y) / 2, 0.8), max(4.0, 0.9 * gap + 2.5),

@@ -16,6 +16,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from legent_gym.envs.episode import Episode
 from legent_gym.multiagent.household import AGENT, USER, HouseholdParallelEnv
 from legent_gym.multiagent.user_policies import UserPolicy, make_policy
 
@@ -37,40 +38,14 @@ class SingleAgentEnv(gym.Env):
         self.action_space = env.action_space(learner)
         self.metadata = {"render_modes": list(env.metadata["render_modes"]), "render_fps": env.metadata["render_fps"]}
         self.render_mode = env.render_mode
+        self.action_type: str = env.unwrapped.action_type
+        self.task_name: str = env.unwrapped.task_name
         self._partner_obs: dict[str, Any] | None = None
 
-    # What the single-agent env exposes (experts, wrappers and analysis read these).
     @property
-    def ctx(self):
-        return self.parallel_env.unwrapped.ctx
-
-    @property
-    def goal(self):
-        return self.parallel_env.unwrapped.goal
-
-    @property
-    def world(self):
-        return self.parallel_env.unwrapped.world
-
-    @property
-    def limits(self):  # the action limits (FlatActions reads them)
-        return self.parallel_env.unwrapped.limits
-
-    @property
-    def action_type(self) -> str:
-        return self.parallel_env.unwrapped.action_type
-
-    @property
-    def task_name(self) -> str:
-        return self.parallel_env.unwrapped.task_name
-
-    @property
-    def width(self) -> int:
-        return self.parallel_env.unwrapped.core.width
-
-    @property
-    def height(self) -> int:
-        return self.parallel_env.unwrapped.core.height
+    def episode(self) -> Episode:
+        """The episode engine both sides act in (what the experts' Oracle reads)."""
+        return self.parallel_env.unwrapped.episode
 
     def set_partner(self, partner: UserPolicy | str | Any) -> None:
         """Play against another fixed policy from now on (mid-episode too: it is reset now)."""

@@ -2,7 +2,7 @@
 
 A policy is reset at the start of each episode with the env and a random generator of its
 own (so that a user's randomness never shifts the houses an env draws), then asked for one
-action per step. Scripted users read privileged state (``env.ctx``: both bodies and the
+action per step. Scripted users read privileged state (``env.episode.ctx``: both bodies and the
 navigation grid) the way a person in the house would know where things are::
 
     StandStill()                  never acts (the single-agent env's passive user)
@@ -100,7 +100,7 @@ class _Walker(UserPolicy):
         return self._asked_from is not None and float(np.hypot(*(body.position - self._asked_from))) < 0.01
 
     def _walk(self, env, body) -> str | None:
-        path = env.ctx.nav.path(tuple(body.position), self.goal)
+        path = env.episode.ctx.nav.path(tuple(body.position), self.goal)
         action = walk_along(body, path, self.speed) if path else None
         self._asked_from = body.position if action is not None and "move_forward" in action else None
         return action
@@ -117,7 +117,7 @@ class Wander(_Walker):
         self.pause = float(pause)
 
     def act(self, env, observation):
-        user, nav = env.ctx.user, env.ctx.nav
+        user, nav = env.episode.ctx.user, env.episode.ctx.nav
         if self.goal is None or self._blocked(user) or math.dist(user.position, self.goal) < ARRIVED:
             cells = np.argwhere(nav.labels == nav.component(tuple(user.position)))
             if len(cells) == 0:
@@ -138,7 +138,7 @@ class WalkAway(_Walker):
         self._agent_seen_at: np.ndarray | None = None
 
     def act(self, env, observation):
-        user, agent, nav = env.ctx.user, env.ctx.agent, env.ctx.nav
+        user, agent, nav = env.episode.ctx.user, env.episode.ctx.agent, env.episode.ctx.nav
         if self.goal is None or self._blocked(user) or \
                 float(np.hypot(*(agent.position - self._agent_seen_at))) > 0.5:
             field = nav.distance_field(tuple(agent.position))
@@ -158,12 +158,12 @@ class ComeTowards(_Walker):
         self.stop_distance = float(stop_distance)
 
     def act(self, env, observation):
-        user, agent = env.ctx.user, env.ctx.agent
+        user, agent = env.episode.ctx.user, env.episode.ctx.agent
         gap = user.horizontal_distance(agent.position)
         if gap <= self.stop_distance:
             return face(user, agent.position)
         self.goal = tuple(agent.position)
-        path = env.ctx.nav.path(tuple(user.position), self.goal)
+        path = env.episode.ctx.nav.path(tuple(user.position), self.goal)
         return walk_along(user, path, min(self.speed, gap - self.stop_distance)) if path else None
 
 

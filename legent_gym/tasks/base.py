@@ -11,14 +11,18 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
 from typing import Any
 
-import mujoco
 import numpy as np
 
 from legent_gym.agent.body import Body
-from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS, World
+from legent_gym.world.builder import World
 from legent_gym.world.navigation import NavGrid
+from legent_gym.world.rays import RayHit, cast_ray
 from legent_gym.world.scene import Scene
 
+#: The paper's evaluation cap on the agent's actions in an episode: the registered ids'
+#: ``max_episode_steps``, the multi-agent envs' ``max_cycles``, and what the task samplers
+#: budget a goal's expert plan against.
+MAX_ACTIONS = 25
 #: Distance fields a TaskContext keeps (least recently used dropped first).
 FIELD_CACHE_SIZE = 16
 
@@ -90,7 +94,8 @@ class TaskContext:
         return out
 
     def object_centre(self, object_id: int) -> np.ndarray:
-        return self.agent._object_centre(object_id)
+        """The centre of the object's bounds where it is now."""
+        return self.world.object_centre(object_id)
 
     def footprint(self, object_id: int) -> np.ndarray:
         """World (x, y) corners (4, 2) of the object's bounds where it is now."""
@@ -117,37 +122,35 @@ class TaskContext:
         ray = self._view_ray(body, self.object_centre(object_id), max_fov_deg, target=object_id)
         if ray is None:
             return False
-        hit, geom, dist = ray
-        return dist < 1e-6 or (hit >= 0 and int(self.world.geom_object[geom]) == object_id)
+        hit, dist = ray
+        return dist < 1e-6 or (hit is not None and hit.object_id == object_id)
 
     def sees_point(self, body: Body, point: np.ndarray) -> bool:
         """``point`` is in the camera's view and no house or object geometry (the held
         object aside) is in front of it: the test for what is in neither group, such as an
         avatar."""
         ray = self._view_ray(body, np.asarray(point, dtype=float))
-        return ray is not None and (ray[0] < 0 or ray[0] >= ray[2] - 1e-3)
+        if ray is None:
+            return False
+        hit, dist = ray
+        return hit is None or hit.distance >= dist - 1e-3
 
     def _view_ray(self, body: Body, point: np.ndarray, max_fov_deg: float | None = None,
-                  target: int | None = None) -> tuple[float, int, float] | None:
+                  target: int | None = None) -> tuple[RayHit | None, float] | None:
         """None when ``point`` is outside the field of view of ``body``'s camera; else the
-        ray from the camera towards it: (distance to the first house or object geom it
-        hits, -1 for none; that geom; distance to the point), (0, -1, 0) for a point at the
-        eye. The held object is no obstacle unless it is ``target``."""
+        ray from the camera towards it: (the first house or object surface it meets, None
+        for none; distance to the point), (None, 0) for a point at the eye. The held object
+        is no obstacle unless it is ``target``."""
         eye = body.camera_position
         to = point - eye
         dist = float(np.linalg.norm(to))
         if dist < 1e-6:
-            return 0.0, -1, 0.0
+            return None, 0.0
         fov = max_fov_deg if max_fov_deg is not None else body.options.fovy
         if math.degrees(math.acos(float(np.clip(to @ body.view_direction() / dist, -1, 1)))) > fov / 2:
             return None
-        groups = np.zeros(6, dtype=np.uint8)
-        groups[GROUP_HOUSE] = groups[GROUP_OBJECTS] = 1
-        geomid = np.zeros(1, dtype=np.int32)
         held = body.state.held
-        exclude = self.world.object_body[held] if held is not None and held != target else -1
-        hit = mujoco.mj_ray(self.world.model, self.world.data, eye, to / dist, groups, 1, exclude, geomid)
-        return float(hit), int(geomid[0]), dist
+        return cast_ray(self.world, eye, to / dist, held if held != target else None), dist
 
 
 @dataclass

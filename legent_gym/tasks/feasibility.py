@@ -31,14 +31,13 @@ from collections import OrderedDict
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
 
-from legent_gym.tasks.base import TaskContext
-from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS
+from legent_gym.tasks.base import MAX_ACTIONS, TaskContext
 from legent_gym.world.navigation import NavGrid
+from legent_gym.world.rays import cast_rays
 
-__all__ = ["FIND_DISTANCE", "MAX_ACTIONS", "PLANNING_MARGIN", "PLAN_BUDGET", "PURPOSES", "STAND_SLACK", "USER_STOP",
+__all__ = ["FIND_DISTANCE", "PLANNING_MARGIN", "PLAN_BUDGET", "PURPOSES", "STAND_SLACK", "USER_STOP",
            "Leg", "aim_points", "aims", "centre_in_sight", "merge_corners", "planning_grid", "put_spot", "put_spots",
            "seen_point", "stand_candidates", "stand_leg", "stand_ok", "stands", "user_leg", "user_stand", "walk_leg", "walk_path",
            "yaw_pitch_to"]
@@ -60,15 +59,12 @@ USER_STOP = 1.0
 ANGLE_TOLERANCE, MAX_TURN, MAX_MOVE = 1.0, 90.0, 2.0
 #: Path corners closer than this (metres) to the one before are dropped (LEGENT).
 MIN_CORNER_GAP = 0.01
-#: The paper's evaluation cap on actions (the registered envs' ``max_episode_steps``), and
-#: the most actions the samplers let a goal's expert plan take: the cap less a few for what
-#: the estimate of :func:`walk_leg` does not see (a sidestep, an aim that needs a second look).
-MAX_ACTIONS = 25
+#: The most actions the samplers let a goal's expert plan take: the cap on actions
+#: (:data:`legent_gym.tasks.base.MAX_ACTIONS`) less a few for what the estimate of
+#: :func:`walk_leg` does not see (a sidestep, an aim that needs a second look).
 PLAN_BUDGET = MAX_ACTIONS - 3
 PURPOSES = ("sight", "aim", "put", "see")
 
-_VIEW_GROUPS = np.zeros(6, dtype=np.uint8)
-_VIEW_GROUPS[GROUP_HOUSE] = _VIEW_GROUPS[GROUP_OBJECTS] = 1
 #: Fractions of an object's half extents (x, y) and of its height (z) where aim points lie.
 _AIM_XY = (0.0, -0.5, 0.5, -0.8, 0.8)
 _AIM_Z = (0.5, 0.9, 0.2, 0.7, 0.35)
@@ -172,22 +168,15 @@ def eye_at(ctx: TaskContext, xy: Sequence[float]) -> np.ndarray:
     return np.array([xy[0], xy[1], ctx.agent.options.camera_height], dtype=float)
 
 
-def _exclude(ctx: TaskContext, item: int | None) -> int:
-    return ctx.world.object_body[item] if item is not None else -1
-
-
-def _cast_many(ctx: TaskContext, eye: np.ndarray, points: np.ndarray, exclude: int) -> tuple[np.ndarray, np.ndarray]:
+def _cast_many(ctx: TaskContext, eye: np.ndarray, points: np.ndarray,
+               item: int | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(distance along each unit ray from ``eye`` towards ``points``, scene object id hit or
-    -1, the unit rays); distance -1 where nothing is hit. The same rays as ``Body.look``."""
-    world = ctx.world
+    -1, the unit rays); distance -1 where nothing is hit. The same rays as ``Body.look``;
+    ``item`` (held) is passed through."""
     vec = np.asarray(points, dtype=float) - eye
     vec /= np.maximum(np.linalg.norm(vec, axis=1, keepdims=True), 1e-12)
-    n = len(vec)
-    geomid = np.zeros(n, dtype=np.int32)
-    dist = np.zeros(n)
-    mujoco.mj_multiRay(world.model, world.data, eye, vec.ravel(), _VIEW_GROUPS, 1, exclude, geomid, dist, None,
-                       n, mujoco.mjMAXVAL)
-    return dist, np.where(dist >= 0, world.geom_object_lookup(geomid), -1), vec
+    dist, hit = cast_rays(ctx.world, eye, vec, item)
+    return dist, hit, vec
 
 
 def aim_points(ctx: TaskContext, object_id: int) -> np.ndarray:
@@ -205,7 +194,7 @@ def put_spot(ctx: TaskContext, host: int, point: np.ndarray, item: int) -> np.nd
     """Where ``put`` aimed at ``point`` on ``host`` sets ``item`` down, or None if it finds
     no room. The body's own room check, plus the pieces standing on the host (a tv on a tv
     stand), which that check does not see: an item set down overlapping one is thrown off."""
-    spot = ctx.agent._free_spot(host, point, item)
+    spot = ctx.agent.free_spot(host, point, item)
     if isinstance(spot, str):
         return None
     lo, hi = ctx.world.assets[item].bounds()
@@ -236,13 +225,13 @@ def put_spots(ctx: TaskContext, host: int, item: int) -> np.ndarray:
     return np.array(spots).reshape(-1, 3)
 
 
-def _first_hits(ctx: TaskContext, eye: np.ndarray, points: np.ndarray, exclude: int, serves) -> list[int]:
+def _first_hits(ctx: TaskContext, eye: np.ndarray, points: np.ndarray, item: int | None, serves) -> list[int]:
     """Indices of ``points`` whose ray from ``eye`` serves (``serves(distance, object hit,
     hit point) -> bool array``), from the first chunk of rays where any does ([] if none).
     Casting chunk by chunk keeps the common case (the first rays serve) cheap."""
     for lo in range(0, len(points), _CHUNK):
         chunk = points[lo:lo + _CHUNK]
-        dist, hit, vec = _cast_many(ctx, eye, chunk, exclude)
+        dist, hit, vec = _cast_many(ctx, eye, chunk, item)
         good = np.nonzero(serves(dist, hit, eye + vec * dist[:, None]))[0]
         if len(good):
             return [lo + int(i) for i in good]
@@ -282,14 +271,14 @@ def aims(ctx: TaskContext, eye: np.ndarray, object_id: int, reach: float, *, ite
                 ok[i] = put_spot(ctx, object_id, at[i], item) is not None
         return ok
 
-    return [yaw_pitch_to(eye, points[i]) for i in _first_hits(ctx, eye, points, _exclude(ctx, item), serves)]
+    return [yaw_pitch_to(eye, points[i]) for i in _first_hits(ctx, eye, points, item, serves)]
 
 
 def centre_in_sight(ctx: TaskContext, eye: np.ndarray, object_id: int, item: int | None = None) -> bool:
     """A ray from ``eye`` to the object's centre meets the object first (GoTo's visibility,
     once the agent faces it)."""
     centre = ctx.object_centre(object_id)
-    _, hit, _ = _cast_many(ctx, eye, centre[None, :], _exclude(ctx, item))
+    _, hit, _ = _cast_many(ctx, eye, centre[None, :], item)
     return bool(hit[0] == object_id)
 
 
@@ -299,7 +288,7 @@ def seen_point(ctx: TaskContext, eye: np.ndarray, object_id: int, within: float 
     ray reaches, the centre first; None if there is none."""
     points = _in_view(eye, np.vstack([ctx.object_centre(object_id)[None, :], aim_points(ctx, object_id)]),
                       within, pitch_range)
-    good = _first_hits(ctx, eye, points, _exclude(ctx, item), lambda dist, hit, at: hit == object_id)
+    good = _first_hits(ctx, eye, points, item, lambda dist, hit, at: hit == object_id)
     return points[good[0]] if good else None
 
 

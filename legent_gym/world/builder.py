@@ -126,7 +126,15 @@ class World:
         return ids
 
     def object_position(self, object_id: int) -> np.ndarray:
+        """Where the object's body origin is now (a copy)."""
         return self.data.xpos[self.object_body[object_id]].copy()
+
+    def object_centre(self, object_id: int) -> np.ndarray:
+        """The centre of the object's bounds where it is now (world frame)."""
+        lo, hi = self.assets[object_id].bounds()
+        body = self.object_body[object_id]
+        rot = self.data.xmat[body].reshape(3, 3)
+        return self.data.xpos[body] + rot @ ((lo + hi) / 2)
 
     def geom_object_lookup(self, geom_ids: np.ndarray) -> np.ndarray:
         """Scene object ids for an array of geom ids (-1 stays -1)."""

@@ -63,7 +63,7 @@ class FlatActions(gym.ActionWrapper):
     def __init__(self, env: gym.Env):
         super().__init__(env)
         self.action_space = spaces.Box(-1.0, 1.0, (4,), np.float32)
-        self.limits = env.unwrapped.limits
+        self.limits = env.unwrapped.episode.limits
 
     def action(self, action):
         return flat_action_text(action, self.limits)
