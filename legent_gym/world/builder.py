@@ -188,7 +188,8 @@ class _SpecBuilder:
         self.assets: dict[int, AssetModel] = {}
         # Geoms whose palette UVs must be filled in once the palette is complete.
         self._palette_uvs = self.palette.all_uvs()
-        self._door_initial: dict[str, float] = {}  # door id -> initial hinge angle
+        #: door id -> initial hinge angle (radians), set on the compiled model's data
+        self.door_initial: dict[str, float] = {}
         self._mesh_count = 0
         self._texture_count = 0
         self._imported = {a.id: a for a in scene.assets}
@@ -430,7 +431,7 @@ class _SpecBuilder:
         body.ipos = [leaf_w / 2, 0.0, door.height / 2]  # the leaf's centre: what "the door" is
         body.inertia = [2.0, 2.0, 2.0]
         body.explicitinertial = True
-        self._door_initial[door.id] = door.openness * (limit if to_left else -limit)
+        self.door_initial[door.id] = door.openness * (limit if to_left else -limit)
 
     # -- objects -------------------------------------------------------------------------
     def _asset_for(self, obj) -> AssetModel:
@@ -595,7 +596,7 @@ def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
             jid = model.joint(f"door_{door.id}_hinge").id
             door_joint[door.id] = jid
             door_body[door.id] = model.body(f"door_{door.id}").id
-            data.qpos[model.jnt_qposadr[jid]] = b._door_initial[door.id]
+            data.qpos[model.jnt_qposadr[jid]] = b.door_initial[door.id]
     free = [o.id for o in scene.objects if o.kind == "interactable"]
     world = World(scene, model, data, b.assets, object_body, object_joints, door_joint, door_body,
                   geom_object, geom_door, b.palette, options, free)
