@@ -25,13 +25,14 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator
 
 from legent_gym.atomic import atomic_write_text
+from legent_gym.world.geometry import polygon_signed_area
 
 SCENE_FORMAT = "legent_gym.scene"
 SCENE_VERSION = 1
@@ -247,17 +248,6 @@ class Scene(_Model):
 
     def to_json(self, indent: int | None = 1) -> str:
         return json.dumps(self.to_dict(), indent=indent, ensure_ascii=False) + "\n"
-
-
-# ---------------------------------------------------------------------------------------
-# Geometry helpers used by validation (kept here so the format has no other dependency)
-
-
-def polygon_signed_area(polygon: Iterable[tuple[float, float]]) -> float:
-    pts = list(polygon)
-    return 0.5 * sum(
-        x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True)
-    )
 
 
 # ---------------------------------------------------------------------------------------
