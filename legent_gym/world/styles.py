@@ -5,6 +5,9 @@ world is built (``Scene.style.preset``). Domain randomisation re-colours the pal
 texture and jitters the lights of an already built world in place, so an episode can get a
 new look without a rebuild: call :func:`randomize_appearance`, then the renderer's
 ``upload_textures()``.
+
+(What floors and walls a generated house gets is
+:mod:`legent_gym.world.generation.surfaces_and_lights`.)
 """
 
 from __future__ import annotations

@@ -47,7 +47,11 @@ from legent_gym.world.generation.small_objects import (
     place_small_objects,
     receptacle_corners,
 )
-from legent_gym.world.generation.style import ceiling_light, light_point, room_surfaces
+from legent_gym.world.generation.surfaces_and_lights import (
+    ceiling_light,
+    light_point,
+    room_surfaces,
+)
 from legent_gym.world.generation.validate import check_house
 from legent_gym.world.geometry import local_footprint
 from legent_gym.world.navigation import NavGrid, clearance_at_least

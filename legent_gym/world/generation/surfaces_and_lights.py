@@ -1,4 +1,8 @@
-"""Looks of a generated house: floor and wall surfaces per room type, and ceiling lights."""
+"""Looks of a generated house: floor and wall surfaces per room type, and ceiling lights.
+
+(How a built world is drawn, its style preset and domain randomisation, is
+:mod:`legent_gym.world.styles`.)
+"""
 
 from __future__ import annotations
 
