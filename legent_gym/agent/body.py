@@ -26,6 +26,7 @@ import numpy as np
 from legent_gym.agent.clearance import ClearanceMap
 from legent_gym.world.builder import GROUP_COLLISION, World
 from legent_gym.world.rays import RayHit, cast_ray
+from legent_gym.world.scene import Spawn
 
 DEFAULT_REACH = 1.5
 PITCH_RANGE = (-60.0, 60.0)  # degrees; + looks down
@@ -59,16 +60,19 @@ def _names(world: World, object_id: int) -> str:
 
 
 class Body:
-    """A kinematic avatar (``name`` is ``"agent"`` or ``"user"``) in a world."""
+    """A kinematic avatar (``name`` is ``"agent"`` or ``"user"``) in a world, standing at
+    ``spawn`` (default: the built scene's spawn for it)."""
 
     def __init__(self, world: World, name: str = "agent", *, reach: float = DEFAULT_REACH,
-                 pitch_range: tuple[float, float] = PITCH_RANGE, other: str | None = None):
+                 pitch_range: tuple[float, float] = PITCH_RANGE, other: str | None = None,
+                 spawn: Spawn | None = None):
         self.world = world
         self.name = name
         self.options = world.options.agent if name == "agent" else world.options.user
         self.reach = reach
         self.pitch_range = pitch_range
-        spawn = world.scene.agent if name == "agent" else (world.scene.user or world.scene.agent)
+        if spawn is None:  # the built scene's spawn
+            spawn = world.scene.agent if name == "agent" else (world.scene.user or world.scene.agent)
         self.state = BodyState(spawn.position[0], spawn.position[1], spawn.yaw)
         self._other = other
         #: The height band the body collides in: from above the floor to chest height.

@@ -6,10 +6,10 @@ Gymnasium env (:class:`~legent_gym.envs.household.HouseholdEnv`), the PettingZoo
 experts' :class:`~legent_gym.experts.Oracle`, and any interactive server. It does five
 things, each one public method:
 
-1. **draw a house** (:class:`HouseSource`: a fixed scene, a fixed seed, a pool of seeds, or a
-   new seed of a layout each time) and **set it up** (build the MuJoCo world, place the
-   agent's and the user's bodies, make the navigation grid) and **sample the task's goal**
-   in it: :meth:`Episode.begin`;
+1. **draw a house** (:class:`HouseSource`: a fixed scene, a fixed seed, a pool of seeds, a
+   folder of scene files, or a new seed of a layout each time) and **set it up** (build
+   the MuJoCo world, place the agent's and the user's bodies, make the navigation grid)
+   and **sample the task's goal** in it: :meth:`Episode.begin`;
 2. **run a body's primitives** (the agent's or the user's): :meth:`Episode.run` and
    :meth:`Episode.execute`;
 3. **judge the task**: :meth:`Episode.judge` and :meth:`Episode.distance_left`;
@@ -21,13 +21,34 @@ things, each one public method:
 
 Rewards, observation dictionaries, info dictionaries, step counting and spaces are the
 front end's business; the engine knows nothing of them.
+
+**Houses are kept.** Building a house costs tens of milliseconds, an episode step well
+under one, and training resets every twenty-odd steps. So a built house (:class:`House`)
+is kept with a copy of its state as built, and an episode in a house built before starts
+by restoring that copy (:mod:`legent_gym.world.state`): small objects back where the house
+has them, doors and drawers as built, nothing held, nothing said. A house is reused
+
+* for ``episodes_per_house`` consecutive episodes (default 1): the first in a house starts
+  at the scene's spawns; each later one draws new spawns for the agent and the user (the
+  task's conditions, e.g. ComeHere's 3 m apart, hold) and a new goal;
+* whenever the house source gives a house it gave before (a fixed ``scene`` or
+  ``house_seed``, an entry of ``house_pool``, a file of a ``houses`` folder): the last
+  :data:`HOUSE_CACHE_SIZE` built houses are kept.
+
+A house from a ``houses`` folder is written without a task in mind, so its every episode
+draws spawns under the task's conditions. A reset with a seed starts a new house, so the
+same seed gives the same episode whatever came before, and the episodes that follow it
+are the same for the same ``episodes_per_house``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
+import mujoco
 import numpy as np
 
 from legent_gym.agent.actions import (
@@ -49,45 +70,78 @@ from legent_gym.agent.body import Body, Outcome
 from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
 from legent_gym.world.builder import BuildOptions, World, build_world
 from legent_gym.world.generation import GenerationError, generate_house
+from legent_gym.world.generation.conditions import HouseSpec
+from legent_gym.world.generation.house import AttemptFailed, place_spawns
 from legent_gym.world.navigation import NavGrid
 from legent_gym.world.render import Renderer
-from legent_gym.world.scene import Scene
+from legent_gym.world.scene import Scene, Spawn, load_scene
+from legent_gym.world.state import WorldState, capture, restore
 
 #: Houses drawn before :meth:`Episode.begin` gives up on finding one with a goal.
 HOUSE_RETRIES = 20
+#: Built houses kept for reuse (a FourRoom house is a few megabytes).
+HOUSE_CACHE_SIZE = 8
+#: New spawns tried in a kept house before a house with no goal for them is left.
+SPAWN_RETRIES = 3
 #: The body method behind each interaction primitive (each takes an optional target).
 BODY_METHOD = {Interact: "interact", Grab: "grab", Put: "put", Open: "open", Close: "close"}
 
 
+@dataclass(frozen=True)
+class HouseDraw:
+    """One house the source chose: ``key`` names it (the same key, the same house),
+    ``seed`` is its generation seed (None for a scene given or read from a file),
+    ``spawns_drawn`` says its spawns are drawn per episode (a folder's houses)."""
+
+    key: tuple
+    seed: int | None
+    load: Any = field(compare=False)  # () -> Scene; called only when the house is not kept
+    spawns_drawn: bool = False
+
+
 class HouseSource:
     """Where each episode's house comes from, in this order of precedence: a fixed
-    ``scene``, a ``house_pool`` of generation seeds cycled through, a fixed ``house_seed``,
-    else a new seed of ``layout`` drawn from the episode's generator."""
+    ``scene``, a ``houses`` folder of scene files (``legent-gym generate --count N
+    --out-dir DIR``; one drawn at random each time), a ``house_pool`` of generation seeds
+    cycled through, a fixed ``house_seed``, else a new seed of ``layout`` drawn from the
+    episode's generator."""
 
     def __init__(self, layout: str, *, scene: Scene | None = None, house_seed: int | None = None,
-                 house_pool: list[int] | None = None):
+                 house_pool: list[int] | None = None, houses: str | Path | None = None):
         self.layout = layout
         self.scene = scene
         self.house_seed = house_seed
         self.house_pool = list(house_pool) if house_pool else None
         self.pool_index = 0
+        self.files: list[Path] | None = None
+        if houses is not None and scene is None:
+            folder = Path(houses)
+            if not folder.is_dir():
+                raise ValueError(f"houses={str(houses)!r} is not a folder (make one with "
+                                 "`legent-gym generate --count N --out-dir DIR`)")
+            self.files = sorted(folder.glob("*.json"))
+            if not self.files:
+                raise ValueError(f"houses folder {str(folder)!r} holds no *.json scene")
 
     @property
     def seed_fixed(self) -> bool:
         """A generation failure is the caller's to see (a fixed seed or a pool), not a
         reason to draw another house."""
-        return self.house_seed is not None or bool(self.house_pool)
+        return self.files is None and (self.house_seed is not None or bool(self.house_pool))
 
     @property
     def house_fixed(self) -> bool:
         """Every episode is in the same house: a house with no goal is an error."""
-        return self.scene is not None or (self.house_seed is not None and not self.house_pool)
+        return self.scene is not None or (self.files is None and self.house_seed is not None and not self.house_pool)
 
-    def draw(self, rng: np.random.Generator, task: Task) -> tuple[Scene, int | None]:
-        """The next house and its generation seed (None for a fixed scene); raises
-        :class:`~legent_gym.world.generation.GenerationError` when generation fails."""
+    def draw(self, rng: np.random.Generator, task: Task) -> HouseDraw:
+        """The next house (its scene is made only if it is not kept already)."""
         if self.scene is not None:
-            return self.scene, None
+            scene = self.scene
+            return HouseDraw(("scene", id(scene)), None, lambda: scene)
+        if self.files is not None:
+            path = self.files[int(rng.integers(len(self.files)))]
+            return HouseDraw(("file", str(path)), None, lambda: load_scene(path), spawns_drawn=True)
         if self.house_pool:
             seed = self.house_pool[self.pool_index % len(self.house_pool)]
             self.pool_index += 1
@@ -95,7 +149,24 @@ class HouseSource:
             seed = self.house_seed
         else:
             seed = int(rng.integers(2**31 - 1))
-        return generate_house(seed, self.layout, **task.house_conditions(seed)), seed
+        conditions = task.house_conditions(seed)
+        key = ("seed", self.layout, seed, repr(sorted(conditions.items())))
+        return HouseDraw(key, seed, lambda: generate_house(seed, self.layout, **conditions))
+
+
+@dataclass
+class House:
+    """A built house kept for reuse: its scene, world, navigation grid and state as built."""
+
+    draw: HouseDraw
+    scene: Scene
+    world: World
+    nav: NavGrid
+    built: WorldState
+    #: The generation seed: the one drawn, or the one a folder's scene file records.
+    seed: int | None
+    #: Episodes begun in this house since it was last drawn.
+    episodes: int = 0
 
 
 @dataclass(frozen=True)
@@ -121,7 +192,11 @@ class Episode:
     """
 
     def __init__(self, task: Task, houses: HouseSource, build_options: BuildOptions, observing: Observing, *,
-                 reach: float, limits: ActionLimits):
+                 reach: float, limits: ActionLimits, episodes_per_house: int = 1):
+        if isinstance(episodes_per_house, bool) or not isinstance(episodes_per_house, int | np.integer) \
+                or episodes_per_house < 1:
+            raise ValueError(f"episodes_per_house must be a positive integer, got {episodes_per_house!r}")
+        self.episodes_per_house = int(episodes_per_house)
         self.task = task
         self.houses = houses
         self.build_options = build_options
@@ -133,7 +208,16 @@ class Episode:
         self.goal: TaskInstance | None = None
         #: The generation seed of the current house (None for a fixed scene).
         self.house_seed: int | None = None
+        #: The house of the current episode.
+        self.house: House | None = None
+        self._kept: OrderedDict[tuple, House] = OrderedDict()
         self._renderer: Renderer | None = None
+        self._renderer_world: World | None = None
+
+    @property
+    def kept_houses(self) -> int:
+        """How many built houses are kept for reuse now."""
+        return len(self._kept)
 
     @property
     def world(self) -> World | None:
@@ -147,41 +231,108 @@ class Episode:
         return self.ctx
 
     # -- 1. house draw, set-up and goal --------------------------------------------------------
-    def begin(self, rng: np.random.Generator, scene: Scene | None = None) -> int:
-        """Start an episode: draw a house (``scene`` if given, else from :attr:`houses`), set
-        it up and sample a goal, drawing another house while one offers none. Returns the
-        number of houses tried. Every draw comes from ``rng``."""
+    def begin(self, rng: np.random.Generator, scene: Scene | None = None, *, new_house: bool = False) -> int:
+        """Start an episode: a house (``scene`` if given; else the current house while it
+        has episodes left of ``episodes_per_house`` and ``new_house`` is false; else one
+        from :attr:`houses`), set up or restored, and a goal in it, drawing another house
+        while one offers none. Returns the number of houses tried. Every draw comes from
+        ``rng``."""
         failure = None
+        current = None if new_house or scene is not None else self.house
         for attempt in range(HOUSE_RETRIES):
             if scene is not None:
-                house, house_seed = scene, None
+                house = self._build(HouseDraw(("given", id(scene)), None, lambda: scene), keep=False)
+            elif current is not None and current.episodes < self.episodes_per_house:
+                house = current
             else:
                 try:
-                    house, house_seed = self.houses.draw(rng, self.task)
+                    draw = self.houses.draw(rng, self.task)
+                    house = self._kept_or_built(draw)
                 except GenerationError as err:
                     # A task's condition this layout cannot meet (a kitchen counter asked of a
                     # bedroom): draw another house, unless the seed is fixed.
                     if self.houses.seed_fixed:
                         raise
                     failure = err
+                    current = None
                     continue
-            self.set_up(house)
-            self.goal = self.task.sample(self.ctx, rng)
-            if self.goal is not None:
-                self.house_seed = house_seed
-                return attempt + 1
-            if scene is not None or self.houses.house_fixed:
-                raise ValueError(f"task {self.task.name} has no valid goal in house {house.name!r}")
+                house.episodes = 0
+            drawn_spawns = bool(house.episodes) or house.draw.spawns_drawn
+            for agent, user in self._spawns(house, rng):
+                self._enter(house, agent, user)
+                self.goal = self.task.sample(self.ctx, rng)
+                if self.goal is not None:
+                    house.episodes += 1
+                    self.house_seed = house.seed
+                    return attempt + 1
+            if not drawn_spawns and (scene is not None or self.houses.house_fixed):
+                raise ValueError(f"task {self.task.name} has no valid goal in house {house.scene.name!r}")
+            current = None  # this house offers no goal: the next try draws another
         raise RuntimeError(f"no house in {HOUSE_RETRIES} tries offered a {self.task.name} goal"
                            + (f" (the last generation failed: {failure})" if failure else ""))
 
-    def set_up(self, scene: Scene) -> TaskContext:
-        """Build ``scene`` and put the agent and the user at its spawns (no goal yet)."""
-        self.close()
+    def _kept_or_built(self, draw: HouseDraw) -> House:
+        house = self._kept.get(draw.key)
+        if house is not None:
+            self._kept.move_to_end(draw.key)
+            return house
+        return self._build(draw, keep=True)
+
+    def _build(self, draw: HouseDraw, keep: bool) -> House:
+        scene = draw.load()
         world = build_world(scene, self.build_options)
-        agent = Body(world, "agent", reach=self.reach, other="user" if scene.user else None)
-        user = Body(world, "user", other="agent")
         nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
+        seed = scene.seed if draw.spawns_drawn else draw.seed
+        house = House(draw, scene, world, nav, capture(world), seed)
+        if keep:
+            self._kept[draw.key] = house
+            if len(self._kept) > HOUSE_CACHE_SIZE:
+                self._kept.popitem(last=False)
+        return house
+
+    def _spawns(self, house: House, rng: np.random.Generator):
+        """(agent, user) spawn pairs to try: the scene's for a house's first episode (unless
+        its spawns are drawn), else up to :data:`SPAWN_RETRIES` new pairs drawn under the
+        task's conditions."""
+        scene = house.scene
+        if not house.episodes and not house.draw.spawns_drawn:
+            yield scene.agent, scene.user
+            return
+        conditions = self.task.house_conditions(house.draw.seed if house.draw.seed is not None else 0)
+        min_distance = float(conditions.get("min_user_distance", HouseSpec.model_fields["min_user_distance"].default))
+        component = house.nav.component(scene.agent.position)
+        for _ in range(SPAWN_RETRIES):
+            try:
+                yield place_spawns(house.nav, component, rng, user=scene.user is not None, min_distance=min_distance)
+            except AttemptFailed:
+                return
+
+    def _enter(self, house: House, agent: Spawn, user: Spawn | None) -> None:
+        """Restore ``house`` as built and put the bodies at these spawns."""
+        world = house.world
+        if self._renderer is not None and self._renderer_world is not world:
+            self.close()
+        restore(world, house.built)
+        scene = house.scene
+        if agent != scene.agent or user != scene.user:
+            scene = scene.model_copy(update={"agent": agent, "user": user})
+        world.set_body_pose("agent", *agent.position, agent.yaw)
+        if user is not None:
+            world.set_body_pose("user", *user.position, user.yaw)
+        mujoco.mj_forward(world.model, world.data)
+        self.house = house
+        self.set_up(scene, world, house.nav)
+
+    def set_up(self, scene: Scene, world: World | None = None, nav: NavGrid | None = None) -> TaskContext:
+        """Build ``scene`` (or take its built ``world`` and ``nav``) and put the agent and the
+        user at the scene's spawns (no goal yet)."""
+        if world is None:
+            self.close()
+            world = build_world(scene, self.build_options)
+        if nav is None:
+            nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
+        agent = Body(world, "agent", reach=self.reach, other="user" if scene.user else None, spawn=scene.agent)
+        user = Body(world, "user", other="agent", spawn=scene.user or scene.agent)
         self.ctx = TaskContext(scene, world, agent, user, nav)
         return self.ctx
 
@@ -244,7 +395,8 @@ class Episode:
         OpenGL context exists before it, so a process may fork until then)."""
         if self._renderer is None:
             o = self.observing
-            self._renderer = Renderer(self.require().world, o.width, o.height, "fast")
+            self._renderer_world = self.require().world
+            self._renderer = Renderer(self._renderer_world, o.width, o.height, "fast")
         return self._renderer
 
     def views(self, who: str = "agent") -> dict[str, np.ndarray]:
@@ -262,10 +414,10 @@ class Episode:
         """Free the renderer (a new one is made for the next frame)."""
         if self._renderer is not None:
             self._renderer.close()
-            self._renderer = None
+        self._renderer = self._renderer_world = None
 
     # Pickling: the house is set up again at the next begin().
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        state.update(ctx=None, goal=None, _renderer=None)
+        state.update(ctx=None, goal=None, house=None, _kept=OrderedDict(), _renderer=None, _renderer_world=None)
         return state

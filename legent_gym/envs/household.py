@@ -89,7 +89,11 @@ class HouseholdEnv(gym.Env):
 
     ## Starting State
     The agent and user stand at the house's spawns (at least 3 m apart for ComeHere, as in
-    LEGENT's evaluation), the agent looking level.
+    LEGENT's evaluation), the agent looking level. Each reset draws a new house unless
+    ``episodes_per_house`` > 1 keeps one for several episodes (later ones at new spawns)
+    or the house is fixed; a kept house starts every episode as built: small objects where
+    the house has them, doors and drawers as built, nothing held. A reset with a seed
+    always starts a new house.
 
     ## Episode End
     Terminates on success, on ``finish()``, and (WhereIs) on any speech. Truncates after
@@ -107,6 +111,11 @@ class HouseholdEnv(gym.Env):
     * ``scene``: a scene JSON path or a ``Scene``: every episode in this house.
     * ``house_seed``: every episode in the house of this generation seed.
     * ``house_pool``: a list of generation seeds, cycled through episode by episode.
+    * ``houses``: a folder of scene files (``legent-gym generate --count N --out-dir DIR``),
+      one drawn at random for each new house; each episode in one draws its spawns.
+    * ``episodes_per_house``: consecutive episodes in one built house (default 1: a new
+      house every episode); later ones draw new spawns and a new goal, with the house
+      restored as built (see :mod:`legent_gym.envs.episode`).
     * ``depth``, ``segmentation``: add these images to the observation.
     * ``strict``: raise on an invalid action instead of a no-op step.
     * ``reach``: interaction distance in metres (1.5).
@@ -121,7 +130,8 @@ class HouseholdEnv(gym.Env):
       is LEGENT's four objects on its five receptacle kinds).
 
     ## Version History
-    * v0: initial release; ``task_options`` added later without changing any default episode.
+    * v0: initial release; ``task_options``, ``houses`` and ``episodes_per_house`` added
+      later without changing any default episode.
     """
 
     metadata = {"render_modes": ["rgb_array", "depth_array"], "render_fps": 4}
@@ -133,7 +143,8 @@ class HouseholdEnv(gym.Env):
                  segmentation: bool = False, strict: bool = False, reach: float = DEFAULT_REACH,
                  agent_radius: float = 0.25, agent_height: float = 1.6, camera_height: float = 1.5,
                  distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
-                 task_options: dict[str, Any] | None = None):
+                 task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
+                 episodes_per_house: int = 1):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -153,11 +164,11 @@ class HouseholdEnv(gym.Env):
         build_options = BuildOptions(agent=BodyOptions(agent_radius, agent_height, camera_height,
                                                        float(fovy or preset["fovy"])))
         houses = HouseSource(layout, scene=load_scene(scene) if isinstance(scene, str | Path) else scene,
-                             house_seed=house_seed, house_pool=house_pool)
+                             house_seed=house_seed, house_pool=house_pool, houses=houses)
         #: The episode engine: house, bodies, goal, views (see :mod:`legent_gym.envs.episode`).
         self.episode = Episode(make_task(task, **(task_options or {})), houses, build_options,
                                Observing(self.width, self.height, depth, segmentation), reach=reach,
-                               limits=ActionLimits())
+                               limits=ActionLimits(), episodes_per_house=episodes_per_house)
 
         self.action_space = text_action_space() if action_type == "text" else continuous_action_space(
             self.episode.limits)
@@ -187,7 +198,8 @@ class HouseholdEnv(gym.Env):
         scene = options.get("scene")
         if scene is not None and not isinstance(scene, Scene):
             scene = load_scene(scene)
-        attempts = self.episode.begin(self.np_random, scene)
+        # A seeded reset starts a new house: the same seed, the same episode, whatever came before.
+        attempts = self.episode.begin(self.np_random, scene, new_house=seed is not None)
         self._n_actions = 0
         evaluation = self.episode.judge()
         self._last_distance = distance = self.distance_left()
