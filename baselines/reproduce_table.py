@@ -62,7 +62,6 @@ import subprocess
 import sys
 import time
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
@@ -75,6 +74,7 @@ from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
 from legent_gym.tasks.household import PAPER_WHERE_IS  # noqa: E402
+from legent_gym.workers import map_ordered  # noqa: E402
 
 TRAIN_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom")
 EVAL_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom", "WhereIs-TwoRoom")
@@ -309,15 +309,14 @@ def train_models(runs: dict[str, TrainConfig], workers: int) -> dict[str, dict]:
             metrics[name] = _train_one(config)
             log(f"trained {name}: {json.dumps(metrics[name])}")
     else:
-        import multiprocessing
-
         # The biggest runs first, so the two workers finish together.
         order = sorted(todo, key=lambda n: -_size(todo[n]))
-        with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("forkserver")) as pool:
-            futures = {name: pool.submit(_train_one, todo[name]) for name in order}
-            for name in order:
-                metrics[name] = futures[name].result()
-                log(f"trained {name}: {json.dumps(metrics[name])}")
+        # All handed out at once: a free worker takes the next run whatever the first is doing.
+        trained = map_ordered(_train_one, [(todo[name],) for name in order], workers=workers,
+                              ahead=len(order))
+        for name, result in zip(order, trained, strict=True):
+            metrics[name] = result
+            log(f"trained {name}: {json.dumps(metrics[name])}")
     for name, config in runs.items():
         if name not in metrics:
             metrics[name] = read_checkpoint(Path(config.out) / FINAL).get("metrics", {})

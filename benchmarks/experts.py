@@ -15,9 +15,10 @@ step until the episode ends. Reported per env id and worker count:
 * ``reset ms``: the median reset (generation + build + navigation grid + first frame);
 * ``success``, ``act/ep``: the expert's success rate and mean actions per episode.
 
-One worker runs pinned to one core; two workers are two processes (forkserver) measured
-from a common start after their first reset. ``--collect-ids`` also times the whole
-``legent-gym collect`` pipeline (Minari + LEGENT export, one worker, one core).
+One worker runs pinned to one core; two workers are two worker processes of
+``legent_gym.workers`` (one core each) measured from a common start after their first reset.
+``--collect-ids`` also times the whole ``legent-gym collect`` pipeline (Minari + LEGENT
+export, one worker, one core).
 """
 
 from __future__ import annotations
@@ -25,7 +26,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
-import multiprocessing
 import os
 import statistics
 import sys
@@ -37,6 +37,7 @@ import gymnasium as gym
 from benchmarks_common import pin_to_one_core
 
 import legent_gym
+from legent_gym.workers import map_ordered, mp_context
 from legent_gym.wrappers.expert import ExpertInfo
 
 
@@ -54,9 +55,7 @@ class TimedExpertInfo(ExpertInfo):
         return labelled
 
 
-def run_attempts(env_id: str, size: int, seeds: range, barrier=None, core: int | None = None) -> dict:
-    if core is not None:
-        os.sched_setaffinity(0, {core})
+def run_attempts(env_id: str, size: int, seeds: range, barrier=None) -> dict:
     env = TimedExpertInfo(gym.make(env_id, width=size, height=size))
     env.reset(seed=10**6)  # the first reset builds the GL context: not part of the rate
     env.expert_seconds.clear()
@@ -94,30 +93,27 @@ def _summarise(parts: list[dict]) -> dict:
             "success_rate": successes / attempts, "actions_per_episode": actions / attempts}
 
 
-def _worker_main(results, *args) -> None:
-    results.put(run_attempts(*args))
+_barrier = None
+
+
+def _keep_barrier(barrier) -> None:
+    global _barrier
+    _barrier = barrier
+
+
+def _run_share(env_id: str, size: int, seeds: range) -> dict:
+    return run_attempts(env_id, size, seeds, _barrier)
 
 
 def bench(env_id: str, size: int, attempts: int, workers: int) -> dict:
     if workers == 1:
         return _summarise([run_attempts(env_id, size, range(attempts))])
-    ctx = multiprocessing.get_context("forkserver")  # no fork after EGL (ENGINEERING-NOTES)
-    barrier, results = ctx.Barrier(workers), ctx.Queue()
-    share, cores = -(-attempts // workers), _cores()
-    processes = [ctx.Process(target=_worker_main, args=(results, env_id, size,
-                                                        range(i * share, min(attempts, (i + 1) * share)),
-                                                        barrier, cores[i % len(cores)]))
-                 for i in range(workers)]
-    for process in processes:
-        process.start()
-    parts = [results.get() for _ in processes]
-    for process in processes:
-        process.join()
-    return _summarise(parts)
-
-
-def _cores() -> list[int]:
-    return sorted(os.sched_getaffinity(0))
+    # One share per worker (each waits at the barrier for the others, so no worker takes two),
+    # each worker on a core of its own.
+    share = -(-attempts // workers)
+    shares = [(env_id, size, range(i * share, min(attempts, (i + 1) * share))) for i in range(workers)]
+    return _summarise(list(map_ordered(_run_share, shares, workers=workers, initializer=_keep_barrier,
+                                       initargs=(mp_context().Barrier(workers),))))
 
 
 @contextlib.contextmanager

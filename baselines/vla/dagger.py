@@ -25,13 +25,11 @@ from __future__ import annotations
 
 import argparse
 import json
-import multiprocessing
 import os
 import shutil
 import sys
 import time
 from collections.abc import Iterator, Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -42,6 +40,7 @@ from legent_gym.cli import UserError, parse_env_kwargs
 from legent_gym.data.legent_format import LegentWriter, episode_pngs
 from legent_gym.data.rollout import Episode, make_env, record_episode
 from legent_gym.experts.planners import FIND_STRATEGIES
+from legent_gym.workers import map_ordered
 
 #: Rollouts per task handed to a worker at a time.
 CHUNK = 25
@@ -148,11 +147,8 @@ def _rollouts(config: DaggerConfig) -> Iterator[tuple[Episode, list[bytes]]]:
         finally:
             _close_worker()
         return
-    # forkserver: forking a process that holds an EGL context hangs (ENGINEERING-NOTES.md).
-    with ProcessPoolExecutor(config.workers, mp_context=multiprocessing.get_context("forkserver"),
-                             initializer=_init_worker, initargs=(config,)) as pool:
-        for future in [pool.submit(_roll_out, *chunk) for chunk in chunks]:
-            yield from future.result()
+    for done in map_ordered(_roll_out, chunks, workers=config.workers, initializer=_init_worker, initargs=(config,)):
+        yield from done
 
 
 def _template(text: str) -> str | None:

@@ -18,11 +18,9 @@ from __future__ import annotations
 
 import argparse
 import json
-import multiprocessing
 import os
 import sys
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import asdict
 
 import gymnasium as gym
@@ -30,6 +28,7 @@ import gymnasium as gym
 import legent_gym  # noqa: F401  (registers the environments)
 from baselines.evaluate import EpisodeResult, ExpertBaseline, RandomPolicy, run_episodes
 from legent_gym.cli import UserError, parse_env_kwargs
+from legent_gym.workers import map_ordered
 
 CHUNK = 10
 RANDOM, EXPERT = "random", "expert"
@@ -96,16 +95,9 @@ def evaluate_many(jobs: Sequence[tuple[str, str]], episodes: int, seed: int, env
     calls = [(j, (spec, env_id, s, n, env_kwargs)) for j, (spec, env_id) in enumerate(jobs)
              for s, n in _chunks(episodes, seed)]
     results: list[list[EpisodeResult]] = [[] for _ in jobs]
-    if workers == 1:
-        for j, args in calls:
-            results[j] += run_chunk(*args)
-        return results
-    # forkserver: forking a process that holds an EGL context hangs (ENGINEERING-NOTES.md).
-    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("forkserver"),
-                             initializer=_init_worker) as pool:
-        futures = [(j, pool.submit(run_chunk, *args)) for j, args in calls]
-        for j, future in futures:
-            results[j] += future.result()
+    chunks = map_ordered(run_chunk, [args for _, args in calls], workers=workers, initializer=_init_worker)
+    for chunk, (j, _) in zip(chunks, calls, strict=True):
+        results[j] += chunk
     return results
 
 
