@@ -5,11 +5,9 @@ walk's helpers (corner merging, action counts) do what they say."""
 from __future__ import annotations
 
 import math
-import multiprocessing as mp
 import os
 import statistics
 from collections import defaultdict
-from concurrent.futures import ProcessPoolExecutor
 
 import gymnasium as gym
 import numpy as np
@@ -27,6 +25,7 @@ from legent_gym.agent.actions import (
 from legent_gym.envs.action_spaces import dict_to_actions
 from legent_gym.experts import Expert
 from legent_gym.tasks.feasibility import PLAN_BUDGET, merge_corners, stand_leg, user_leg, walk_leg
+from legent_gym.workers import map_ordered
 from legent_gym.world.navigation import NavGrid
 
 TASKS = ("ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn")
@@ -170,10 +169,9 @@ def test_expert_acceptance_every_env_200_seeds():
     jobs = [(env_id, action_type, list(range(lo, lo + 25))) for env_id in ENV_IDS
             for action_type in ("text", "continuous") for lo in range(0, ACCEPTANCE_SEEDS, 25)]
     results = defaultdict(list)
-    with ProcessPoolExecutor(max_workers=os.cpu_count(), mp_context=mp.get_context("forkserver")) as pool:
-        for records in pool.map(_acceptance_job, jobs):
-            for r in records:
-                results[(r["env_id"], r["action_type"])].append(r)
+    for records in map_ordered(_acceptance_job, [(job,) for job in jobs], workers=len(os.sched_getaffinity(0))):
+        for r in records:
+            results[(r["env_id"], r["action_type"])].append(r)
     failures = []
     by_task = defaultdict(list)
     print(f"\n{'env id':32s} {'actions':10s} success  mean  max")

@@ -22,13 +22,9 @@ from __future__ import annotations
 import fcntl
 import json
 import math
-import multiprocessing
 import os
-import threading
 import time
-from collections import deque
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
 from contextlib import closing
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -38,6 +34,7 @@ from legent_gym.atomic import atomic_write_bytes, atomic_write_text
 from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
 from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
 from legent_gym.experts.planners import FIND_STRATEGIES
+from legent_gym.workers import map_ordered
 
 FORMATS = ("minari", "legent", "video")
 PROGRESS_FILE = "progress.json"
@@ -170,20 +167,8 @@ class _Worker:
 _worker: _Worker | None = None
 
 
-def _exit_with(parent_pid: int) -> None:
-    """Leave when the collecting process is gone (killed with -9 it cannot tell us):
-    an orphaned worker would otherwise wait for work forever and keep the forkserver alive."""
-    while True:
-        time.sleep(1.0)
-        try:
-            os.kill(parent_pid, 0)
-        except ProcessLookupError:
-            os._exit(0)
-
-
-def _init_worker(parent_pid: int, *args) -> None:
+def _init_worker(*args) -> None:
     global _worker
-    threading.Thread(target=_exit_with, args=(parent_pid,), daemon=True, name="parent-watch").start()
     _worker = _Worker(*args)
 
 
@@ -203,19 +188,9 @@ def _attempt_results(config: CollectConfig, policy, start: int, limit: int) -> I
         finally:
             worker.close()
         return
-    # forkserver: a forked child of a process holding an EGL context hangs (ENGINEERING-NOTES).
-    pool = ProcessPoolExecutor(config.workers, mp_context=multiprocessing.get_context("forkserver"),
-                               initializer=_init_worker, initargs=(os.getpid(), *worker_args))
-    pending: deque = deque()
-    try:
-        attempt = start
-        while pending or attempt < limit:
-            while attempt < limit and len(pending) < 2 * config.workers:
-                pending.append(pool.submit(_run_attempt, attempt, config.seed + attempt))
-                attempt += 1
-            yield pending.popleft().result()
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+    calls = ((attempt, config.seed + attempt) for attempt in range(start, limit))
+    yield from map_ordered(_run_attempt, calls, workers=config.workers, initializer=_init_worker,
+                           initargs=worker_args)
 
 
 # -- the run ---------------------------------------------------------------------------------
