@@ -1,0 +1,567 @@
+"""Env steps/s in the training loop, as ratios against Miniworld measured in the same run.
+
+    python benchmarks/throughput.py [--steps 1000] [--rounds 5] [--only oneroom,tworoom,...]
+                                    [--collect-episodes 100] [--house-count 32] [--json OUT]
+    python benchmarks/throughput.py --profile-resets 50 [--profile-id Legent/ComeHere-TwoRoom-v0]
+
+``benchmarks/step.py`` keeps one house and measures stepping alone; training code resets
+every ~20 steps (episodes end at 25 actions or on success), so here every row is the loop a
+training run goes through: ``gym.make(id, width=96, height=96)`` (the registered 25-action
+cap), seeded random actions, ``env.reset()`` whenever ``terminated or truncated``, 96x96
+observations, one core. Rows (``--only`` names):
+
+* ``oneroom``, ``tworoom``: ``Legent/ComeHere-{OneRoom,TwoRoom}-v0``, a new house every episode;
+* ``oneroom-eph8``, ``tworoom-eph8``: the same with ``episodes_per_house=8``;
+* ``oneroom-houses``, ``tworoom-houses``: the same with ``houses=DIR``, a folder of
+  ``--house-count`` scenes written by ``legent-gym generate --count N --out-dir DIR`` (before
+  timing). Where the env does not know the keyword (TypeError) or the CLI has no
+  ``--count``, the row says "n/a (not supported by this version)";
+* ``mw-oneroom``, ``mw-fourrooms``: Miniworld's ``MiniWorld-OneRoom-v0`` and
+  ``MiniWorld-FourRooms-v0`` with ``obs_width=96, obs_height=96`` and Miniworld's own episode
+  caps (180 and 250 steps), random discrete actions, the same loop. ``mw-fourrooms`` is the
+  reference of the ratios and is always measured;
+* ``vec1``, ``vec2``: ``gym.make_vec("Legent/ComeHere-OneRoom-v0", num_envs=N,
+  vectorization_mode="async")`` (forkserver workers, same-step autoreset), steps summed over
+  the envs. N=1 runs pinned to one core (the parent and its env process), N=2 unpinned;
+  reported as the ratio N=2 / N=1. ``vec2-lp0`` is N=2 with ``LP_NUM_THREADS=0`` in the env
+  processes: an unpinned process gets llvmpipe render threads (one per core) that every
+  96x96 frame hands its tiles to, where a pinned one draws in its own thread;
+* ``collect``: ``legent-gym collect Legent/ComeHere-OneRoom-v0 --episodes 100 --out DIR
+  --workers 1`` (its Python function, one core, default formats): successful expert
+  trajectories per second, the whole call timed (a fresh DIR each round).
+
+Legent's actions are ``benchmarks/step.py``'s random move/turn/tilt text actions, one in ten
+with an interaction appended (``interact()``, ``grab()``, ``put()``, ``open()``,
+``close()``); Miniworld's are uniform over its discrete actions. Both come from seeded numpy
+generators (not ``env.action_space.sample()``), so runs repeat.
+
+Each row lives in a worker process of its own (set up before timing: env made, first reset,
+a few warm-up steps), and the rows are measured in alternating blocks: ``--rounds`` rounds,
+each giving every row ``--steps`` steps (one collection for ``collect``), the order rotated
+every round, so that other load on the shared machine weighs on all rows alike. Only one
+worker runs at a time; pinned workers share one core. ``steps/s`` is the median over
+rounds and includes the resets: it is what a training loop gets. ``x MW`` columns are the
+medians of the per-round ratios to the Miniworld rows of the same round; ``cpu x MW
+FourRooms`` is that ratio in process CPU time (the one-process rows; steadier under other
+load). ``reset ms`` is the median time inside ``reset`` calls (autoresets included; resets
+inside the vector env's processes are not seen), ``reset ms (mean)`` their mean (with
+``episodes_per_house`` the median is an in-house reset, the mean counts the new houses too).
+
+Headless Miniworld: Miniworld draws with pyglet 1.5 (OpenGL). With no display, a worker sets
+``PYOPENGL_PLATFORM=egl`` and ``pyglet.options["headless"] = True`` before pyglet or
+miniworld is imported; pyglet then opens an EGL pbuffer context on Mesa's software device
+(llvmpipe), as MuJoCo does for legent. The Debian libraries this uses (all in the project's
+machine image already, nothing to install): libegl1, libegl-mesa0, libgl1, libgl1-mesa-dri,
+libglu1-mesa and libgbm1. Miniworld itself is the ``bench`` extra: ``pip install -e ".[bench]"``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import traceback
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+LEGENT_IDS = {"OneRoom": "Legent/ComeHere-OneRoom-v0", "TwoRoom": "Legent/ComeHere-TwoRoom-v0"}
+INTERACTIONS = ("interact()", "grab()", "put()", "open()", "close()")
+REFERENCE = "mw-fourrooms"
+UNSUPPORTED = "n/a (not supported by this version)"
+
+
+def _configs() -> dict[str, dict]:
+    rows: dict[str, dict] = {}
+    for layout, env_id in LEGENT_IDS.items():
+        low = layout.lower()
+        rows[low] = {"kind": "legent", "label": f"{env_id}", "env_id": env_id, "kwargs": {}}
+        rows[f"{low}-eph8"] = {"kind": "legent", "label": f"{env_id}, episodes_per_house=8", "env_id": env_id,
+                               "kwargs": {"episodes_per_house": 8}}
+        rows[f"{low}-houses"] = {"kind": "legent", "label": f"{env_id}, houses=DIR", "env_id": env_id,
+                                 "kwargs": {"houses": None}, "layout": layout}
+    rows["mw-oneroom"] = {"kind": "miniworld", "label": "MiniWorld-OneRoom-v0", "env_id": "MiniWorld-OneRoom-v0"}
+    rows["mw-fourrooms"] = {"kind": "miniworld", "label": "MiniWorld-FourRooms-v0",
+                            "env_id": "MiniWorld-FourRooms-v0"}
+    for n in (1, 2):
+        rows[f"vec{n}"] = {"kind": "vector", "label": f"make_vec ComeHere-OneRoom, async, N={n}",
+                           "env_id": LEGENT_IDS["OneRoom"], "num_envs": n}
+    rows["vec2-lp0"] = {"kind": "vector", "label": "make_vec ComeHere-OneRoom, async, N=2, LP_NUM_THREADS=0",
+                        "env_id": LEGENT_IDS["OneRoom"], "num_envs": 2, "env": {"LP_NUM_THREADS": "0"}}
+    rows["collect"] = {"kind": "collect", "label": "legent-gym collect ComeHere-OneRoom, --workers 1",
+                       "env_id": LEGENT_IDS["OneRoom"]}
+    return rows
+
+
+CONFIGS = _configs()
+
+
+# -- worker side ------------------------------------------------------------------------------
+def legent_actions(n: int, seed: int, interact_p: float = 0.1) -> list[str]:
+    """``step.py``'s random move/turn/tilt text actions, an interaction appended to about
+    ``interact_p`` of them."""
+    import numpy as np
+    from step import random_actions
+
+    rng = np.random.default_rng(seed + 7919)
+    out = []
+    for action in random_actions(n, seed):
+        if rng.random() < interact_p:
+            action += ", " + INTERACTIONS[int(rng.integers(len(INTERACTIONS)))]
+        out.append(action)
+    return out
+
+
+class _Loop:
+    """One env in the training loop: step with the next action, reset when the episode ends."""
+
+    def __init__(self, env, actions, seed: int):
+        self.env, self.actions, self.i = env, actions, 0
+        env.reset(seed=seed)
+
+    def run(self, steps: int) -> dict:
+        env, actions, n = self.env, self.actions, len(self.actions)
+        reset_ms, ends, successes = [], 0, 0
+        perf, cpu = time.perf_counter, time.process_time
+        wall0, cpu0 = perf(), cpu()
+        for _ in range(steps):
+            _, _, terminated, truncated, _ = env.step(actions[self.i % n])
+            self.i += 1
+            if terminated or truncated:
+                ends += 1
+                successes += bool(terminated)
+                start = perf()
+                env.reset()
+                reset_ms.append((perf() - start) * 1e3)
+        return {"steps": steps, "wall": perf() - wall0, "cpu": cpu() - cpu0, "reset_ms": reset_ms,
+                "episodes": ends, "terminated": successes}
+
+
+class _VecLoop:
+    def __init__(self, vec, actions, seed: int):
+        self.vec, self.actions, self.i = vec, actions, 0
+        self.n = vec.num_envs
+        vec.reset(seed=seed)
+
+    def run(self, steps: int) -> dict:
+        vec, actions, n, k = self.vec, self.actions, len(self.actions), self.n
+        batches = max(1, steps // k)
+        ends = 0
+        wall0 = time.perf_counter()
+        for _ in range(batches):
+            batch = tuple(actions[(self.i + j) % n] for j in range(k))
+            self.i += k
+            _, _, terminated, truncated, _ = vec.step(batch)
+            ends += int(terminated.sum() + truncated.sum())
+        return {"steps": batches * k, "wall": time.perf_counter() - wall0, "cpu": None, "reset_ms": [],
+                "episodes": ends, "terminated": None}
+
+
+class _CollectLoop:
+    def __init__(self, env_id: str, episodes: int, scratch: Path):
+        from legent_gym.data.collect import CollectConfig, collect
+
+        self.collect, self.CollectConfig = collect, CollectConfig
+        self.env_id, self.episodes, self.scratch, self.round = env_id, episodes, scratch, 0
+        self._collect(2)  # warm-up: imports, writers, the first GL context
+
+    def _collect(self, episodes: int):
+        out = self.scratch / f"collect-{self.round}"
+        self.round += 1
+        shutil.rmtree(out, ignore_errors=True)
+        config = self.CollectConfig(self.env_id, episodes, str(out), workers=1, seed=0)
+        wall0, cpu0 = time.perf_counter(), time.process_time()
+        summary = self.collect(config, show_progress=False)
+        result = {"steps": summary.new_episodes, "wall": time.perf_counter() - wall0,
+                  "cpu": time.process_time() - cpu0, "reset_ms": [], "episodes": summary.new_episodes,
+                  "terminated": summary.new_episodes, "attempts": summary.attempts,
+                  "collect_seconds": summary.seconds}
+        shutil.rmtree(out, ignore_errors=True)
+        return result
+
+    def run(self, steps: int) -> dict:
+        return self._collect(self.episodes)
+
+
+def _make_worker(config: dict, args) -> tuple[object, dict]:
+    """The row's loop, set up and warmed up, and facts about it."""
+    kind, seed = config["kind"], args.seed
+    facts: dict = {}
+    if kind == "miniworld":
+        os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
+        import pyglet
+
+        if not (os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY")):
+            pyglet.options["headless"] = True
+        import gymnasium as gym
+        import miniworld  # noqa: F401  (registers MiniWorld-*)
+        import numpy as np
+
+        env = gym.make(config["env_id"], obs_width=args.size, obs_height=args.size)
+        rng = np.random.default_rng(seed)
+        actions = [int(a) for a in rng.integers(env.action_space.n, size=4096)]
+        loop = _Loop(env, actions, seed)
+        from pyglet import gl
+
+        facts["gl_renderer"] = gl.gl_info.get_renderer()
+        facts["episode_cap"] = getattr(env.unwrapped, "max_episode_steps", None)
+        facts["miniworld"] = getattr(miniworld, "__version__", "?")
+    elif kind == "legent":
+        import gymnasium as gym
+
+        import legent_gym  # noqa: F401
+
+        kwargs = dict(config["kwargs"])
+        if "houses" in kwargs:
+            kwargs["houses"] = args.houses[config["layout"]]
+        env = gym.make(config["env_id"], width=args.size, height=args.size, **kwargs)
+        loop = _Loop(env, legent_actions(4096, seed), seed)
+        facts["episode_cap"] = env.spec.max_episode_steps
+    elif kind == "vector":
+        os.environ.update(config.get("env", {}))  # the forkserver and the env processes inherit it
+        import gymnasium as gym
+
+        import legent_gym  # noqa: F401
+
+        vec = gym.make_vec(config["env_id"], num_envs=config["num_envs"], vectorization_mode="async",
+                           vector_kwargs={"context": "forkserver",
+                                          "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP},
+                           width=args.size, height=args.size)
+        loop = _VecLoop(vec, legent_actions(4096, seed), seed)
+        facts["cores"] = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+    elif kind == "collect":
+        import legent_gym  # noqa: F401
+
+        loop = _CollectLoop(config["env_id"], args.collect_episodes, Path(args.scratch))
+        return loop, facts
+    else:
+        raise ValueError(kind)
+    loop.run(30)  # warm-up, untimed
+    return loop, facts
+
+
+def _unsupported(err: TypeError, config: dict) -> bool:
+    text = str(err)
+    return "unexpected keyword" in text and any(k in text for k in config.get("kwargs", {}))
+
+
+def worker_main(name: str, args) -> int:
+    """Replies on the original stdout, one JSON line per request; anything else the row's code
+    prints goes to stderr (a log file)."""
+    proto = os.fdopen(os.dup(1), "w", buffering=1)
+    os.dup2(2, 1)
+    sys.path.insert(0, str(HERE))
+    config = CONFIGS[name]
+    if config["kind"] != "vector" or config["num_envs"] == 1:
+        from benchmarks_common import pin_to_one_core
+
+        pin_to_one_core()
+    try:
+        loop, facts = _make_worker(config, args)
+    except TypeError as err:
+        if _unsupported(err, config):
+            print(json.dumps({"status": "unsupported", "reason": str(err)}), file=proto)
+            return 0
+        traceback.print_exc()
+        print(json.dumps({"status": "error", "reason": f"{type(err).__name__}: {err}"}), file=proto)
+        return 1
+    except Exception as err:
+        traceback.print_exc()
+        print(json.dumps({"status": "error", "reason": f"{type(err).__name__}: {err}"}), file=proto)
+        return 1
+    print(json.dumps({"status": "ready", "facts": facts}), file=proto)
+    for line in sys.stdin:
+        request = json.loads(line)
+        if request["cmd"] == "exit":
+            break
+        try:
+            result = loop.run(request["steps"])
+        except Exception as err:
+            traceback.print_exc()
+            print(json.dumps({"status": "error", "reason": f"{type(err).__name__}: {err}"}), file=proto)
+            return 1
+        print(json.dumps({"status": "ok", "result": result}), file=proto)
+    with contextlib.suppress(Exception):
+        (loop.vec if hasattr(loop, "vec") else getattr(loop, "env", None)).close()
+    return 0
+
+
+# -- parent side ------------------------------------------------------------------------------
+class Worker:
+    def __init__(self, name: str, argv: list[str], log: Path):
+        self.name, self.log = name, log
+        self.status, self.reason, self.facts, self.results = "starting", "", {}, []
+        self._log = open(log, "w")  # noqa: SIM115  (open as long as the worker runs; closed in close())
+        self.proc = subprocess.Popen([sys.executable, str(Path(__file__).resolve()), "--worker", name, *argv],
+                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self._log,
+                                     text=True, bufsize=1, cwd=HERE.parent)
+
+    def _reply(self) -> dict:
+        line = self.proc.stdout.readline()
+        if not line:
+            self.proc.wait()
+            return {"status": "error", "reason": f"worker exited ({self.proc.returncode}): {self._tail()}"}
+        return json.loads(line)
+
+    def _tail(self) -> str:
+        self._log.flush()
+        lines = [ln for ln in self.log.read_text().splitlines() if ln.strip()]
+        return lines[-1] if lines else "no output"
+
+    def wait_ready(self) -> None:
+        reply = self._reply()
+        self.status = reply["status"]
+        self.reason, self.facts = reply.get("reason", ""), reply.get("facts", {})
+        if self.status == "error" and "worker exited" not in self.reason:
+            self.reason += f" (log: {self.log})"
+
+    def run(self, steps: int) -> None:
+        if self.status != "ready":
+            return
+        self.proc.stdin.write(json.dumps({"cmd": "run", "steps": steps}) + "\n")
+        self.proc.stdin.flush()
+        reply = self._reply()
+        if reply["status"] == "ok":
+            self.results.append(reply["result"])
+        else:
+            self.status, self.reason = "error", reply.get("reason", "?") + f" (log: {self.log})"
+
+    def close(self) -> None:
+        with contextlib.suppress(Exception):
+            if self.proc.poll() is None:
+                self.proc.stdin.write(json.dumps({"cmd": "exit"}) + "\n")
+                self.proc.stdin.flush()
+        try:
+            self.proc.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+        self._log.close()
+
+
+def generate_houses(layout: str, count: int, out_dir: Path) -> str | None:
+    """Write ``count`` houses with the CLI; None when it works, else why not."""
+    cli = [sys.executable, "-c", "import sys; from legent_gym.cli import main; sys.exit(main())"]
+    done = subprocess.run([*cli, "generate", "--preset", layout, "--seed", "1000", "--count", str(count),
+                           "--out-dir", str(out_dir)], capture_output=True, text=True)
+    if done.returncode != 0:
+        err = done.stderr.strip().splitlines()
+        if "--count" in done.stderr or "unrecognized arguments" in done.stderr:
+            return UNSUPPORTED + " (legent-gym generate has no --count)"
+        return f"legent-gym generate failed: {err[-1] if err else done.returncode}"
+    return None
+
+
+def _rate(result: dict) -> float:
+    return result["steps"] / result["wall"] if result["wall"] > 0 else float("nan")
+
+
+def summarise(workers: dict[str, Worker], rounds: int) -> dict:
+    rows = {}
+    ref = workers.get(REFERENCE)
+    mw1 = workers.get("mw-oneroom")
+    for name, w in workers.items():
+        row = {"label": CONFIGS[name]["label"], "status": w.status, "reason": w.reason, "facts": w.facts,
+               "rounds": w.results}
+        if w.results:
+            rates = [_rate(r) for r in w.results]
+            row["rate"] = statistics.median(rates)
+            row["rate_overall"] = sum(r["steps"] for r in w.results) / sum(r["wall"] for r in w.results)
+            resets = [ms for r in w.results for ms in r["reset_ms"]]
+            row["reset_ms"] = statistics.median(resets) if resets else None
+            row["reset_ms_mean"] = statistics.fmean(resets) if resets else None
+            row["resets"] = len(resets)
+            eps = sum(r["episodes"] for r in w.results)
+            row["steps_per_episode"] = sum(r["steps"] for r in w.results) / eps if eps else None
+            for key, other in (("x_fourrooms", ref), ("x_oneroom", mw1)):
+                if other is not None and other.results and other is not w:
+                    pairs = zip(w.results, other.results)
+                    row[key] = statistics.median(_rate(a) / _rate(b) for a, b in pairs)
+            if all(r["cpu"] for r in w.results) and ref is not None and ref.results:
+                # The same in process CPU time: what the process itself spent, steadier on a
+                # shared machine (the pinned rows have no render threads of their own).
+                row["cpu_x_fourrooms"] = statistics.median(
+                    (a["steps"] / a["cpu"]) / (b["steps"] / b["cpu"]) for a, b in zip(w.results, ref.results))
+            if CONFIGS[name]["kind"] == "collect":
+                row["attempts"] = sum(r["attempts"] for r in w.results)
+        rows[name] = row
+    for name in ("vec2", "vec2-lp0"):
+        if "vec1" in workers and name in workers and workers["vec1"].results and workers[name].results:
+            rows[name]["x_vec1"] = statistics.median(
+                _rate(b) / _rate(a) for a, b in zip(workers["vec1"].results, workers[name].results))
+    return rows
+
+
+def _fmt(value, spec: str, missing: str = "") -> str:
+    return missing if value is None else format(value, spec)
+
+
+def markdown(rows: dict) -> str:
+    out = ["| row | steps/s | x MW FourRooms | cpu x MW FourRooms | x MW OneRoom | reset ms (median) "
+           "| reset ms (mean) | steps/episode |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    for name, row in rows.items():
+        if CONFIGS[name]["kind"] == "collect":
+            continue
+        label = row["label"].replace("Legent/", "")
+        if row["status"] != "ready" or "rate" not in row:
+            if row["status"] == "unsupported":
+                text = UNSUPPORTED
+            elif row["reason"].startswith("n/a"):
+                text = row["reason"]
+            else:
+                text = f"error: {row['reason']}"
+            out.append(f"| {label} | {text} | | | | | | |")
+            continue
+        extra = f" (N=2/N=1: {row['x_vec1']:.2f})" if "x_vec1" in row else ""
+        out.append(f"| {label} | {row['rate']:.0f}{extra} | {_fmt(row.get('x_fourrooms'), '.2f', '1')} | "
+                   f"{_fmt(row.get('cpu_x_fourrooms'), '.2f', '1' if name == REFERENCE else '')} | "
+                   f"{_fmt(row.get('x_oneroom'), '.2f', '1' if name == 'mw-oneroom' else '')} | "
+                   f"{_fmt(row.get('reset_ms'), '.1f', 'n/a')} | {_fmt(row.get('reset_ms_mean'), '.1f', 'n/a')} | "
+                   f"{_fmt(row.get('steps_per_episode'), '.1f')} |")
+    if "collect" in rows:
+        row = rows["collect"]
+        out.append("")
+        if "rate" in row:
+            out.append(f"Collection (`legent-gym collect ComeHere-OneRoom-v0 --workers 1`, one core): "
+                       f"**{row['rate']:.2f} successful trajectories/s** (median of rounds; "
+                       f"{sum(r['episodes'] for r in row['rounds'])} trajectories in {row['attempts']} attempts).")
+        else:
+            out.append(f"Collection: {row['reason']}")
+    return "\n".join(out)
+
+
+def _atomic_json(path: str, data: dict) -> None:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(fd, "w") as fh:
+            json.dump(data, fh, indent=1)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def profile_resets(env_id: str, n: int, size: int, top: int = 25) -> None:
+    import cProfile
+    import pstats
+
+    sys.path.insert(0, str(HERE))
+    from benchmarks_common import pin_to_one_core
+
+    pin_to_one_core()
+    import gymnasium as gym
+
+    import legent_gym  # noqa: F401
+
+    env = gym.make(env_id, width=size, height=size)
+    env.reset(seed=0)
+    profiler = cProfile.Profile()
+    start = time.perf_counter()
+    profiler.enable()
+    for _ in range(n):
+        env.reset()
+    profiler.disable()
+    print(f"{n} resets of {env_id}: {(time.perf_counter() - start) / n * 1e3:.1f} ms each (under cProfile)")
+    pstats.Stats(profiler).sort_stats("cumulative").print_stats(top)
+    env.close()
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--steps", type=int, default=1000, help="steps per row per round")
+    parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--only", default="", help=f"comma-separated rows of: {', '.join(CONFIGS)} "
+                        f"({REFERENCE}, the reference, is always added)")
+    parser.add_argument("--size", type=int, default=96)
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--collect-episodes", type=int, default=100, help="episodes per collection (one a round)")
+    parser.add_argument("--house-count", type=int, default=32, help="houses generated for the houses=DIR rows")
+    parser.add_argument("--json", metavar="OUT", help="also write the results as JSON (atomically)")
+    parser.add_argument("--profile-resets", type=int, default=0, metavar="N",
+                        help="instead: cProfile N resets of --profile-id and print the top 25 by cumulative time")
+    parser.add_argument("--profile-id", default=LEGENT_IDS["TwoRoom"])
+    parser.add_argument("--worker", help=argparse.SUPPRESS)
+    parser.add_argument("--houses-json", help=argparse.SUPPRESS)
+    parser.add_argument("--scratch", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+
+    if args.worker:
+        args.houses = json.loads(args.houses_json) if args.houses_json else {}
+        return worker_main(args.worker, args)
+    if args.profile_resets:
+        profile_resets(args.profile_id, args.profile_resets, args.size)
+        return 0
+
+    names = [n.strip() for n in args.only.split(",") if n.strip()] or list(CONFIGS)
+    unknown = [n for n in names if n not in CONFIGS]
+    if unknown:
+        parser.error(f"unknown rows {unknown}; known: {', '.join(CONFIGS)}")
+    if REFERENCE not in names:
+        names.append(REFERENCE)
+    names = [n for n in CONFIGS if n in names]  # the table's order
+
+    load_before = os.getloadavg()
+    scratch = Path(tempfile.mkdtemp(prefix="legent-throughput-"))
+    try:
+        houses, house_problem = {}, {}
+        for layout in LEGENT_IDS:
+            if f"{layout.lower()}-houses" in names:
+                folder = scratch / "houses" / layout
+                problem = generate_houses(layout, args.house_count, folder)
+                houses[layout] = str(folder)
+                if problem:
+                    house_problem[f"{layout.lower()}-houses"] = problem
+        common = ["--size", str(args.size), "--seed", str(args.seed), "--collect-episodes",
+                  str(args.collect_episodes), "--houses-json", json.dumps(houses), "--scratch", str(scratch)]
+        workers: dict[str, Worker] = {}
+        for name in names:
+            if name in house_problem:
+                continue
+            workers[name] = Worker(name, common, scratch / f"{name}.log")
+        for w in workers.values():
+            w.wait_ready()
+            state = w.status if w.status != "ready" else "ready"
+            print(f"  {w.name}: {state}{(': ' + w.reason) if w.reason else ''}", file=sys.stderr, flush=True)
+        order = [w for w in workers.values() if w.status == "ready"]
+        for r in range(args.rounds):
+            shift = r % len(order) if order else 0
+            for w in order[shift:] + order[:shift]:
+                w.run(args.steps)
+            print(f"  round {r + 1}/{args.rounds} done", file=sys.stderr, flush=True)
+        for w in workers.values():
+            w.close()
+        rows = summarise(workers, args.rounds)
+        for name, problem in house_problem.items():
+            rows[name] = {"label": CONFIGS[name]["label"], "status": "unsupported" if problem.startswith("n/a")
+                          else "error", "reason": problem, "facts": {}, "rounds": []}
+        rows = {n: rows[n] for n in names if n in rows}
+        load_after = os.getloadavg()
+        gl = next((r["facts"].get("gl_renderer") for r in rows.values() if r["facts"].get("gl_renderer")), None)
+        machine = {"cpus": os.cpu_count(), "gl_renderer": gl, "load_before": load_before, "load_after": load_after,
+                   "python": sys.version.split()[0]}
+        print(f"\n{args.rounds} rounds x {args.steps} steps per row, {args.size}x{args.size}, one core "
+              f"(vec2 rows: all cores); {machine['cpus']} CPUs, GL: {gl}, load {load_before[0]:.1f} -> {load_after[0]:.1f}\n")
+        print(markdown(rows))
+        if args.json:
+            _atomic_json(args.json, {"args": {k: v for k, v in vars(args).items() if k not in ("worker",)},
+                                     "machine": machine, "rows": rows})
+        failed = [n for n, r in rows.items() if r["status"] == "error"]
+        return 1 if failed else 0
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
