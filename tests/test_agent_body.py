@@ -9,7 +9,7 @@ import pytest
 
 from legent_gym.agent.body import Body
 from legent_gym.world.builder import build_world
-from legent_gym.world.navigation import object_footprint
+from legent_gym.world.geometry import object_footprint
 from legent_gym.world.scene import load_scene
 
 
@@ -230,6 +230,6 @@ def test_the_body_cannot_leave_the_house_through_an_outside_door():
 
 
 def _point_in(polygon, xy) -> bool:
-    from legent_gym.world.generation.furnish import points_in_polygon
+    from legent_gym.world.geometry import points_in_polygon
 
     return bool(points_in_polygon(np.asarray([xy], dtype=float), np.asarray(polygon, dtype=float))[0])

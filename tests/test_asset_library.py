@@ -12,7 +12,7 @@ from scipy.spatial import ConvexHull
 
 import legent_gym.world.assets  # noqa: F401  (registers the library)
 from legent_gym.world.assets import registry
-from legent_gym.world.assets.library._common import MATERIALS, ROOM_TYPES
+from legent_gym.world.assets.library.common import MATERIALS, ROOM_TYPES
 from legent_gym.world.assets.model import AssetModel, Part
 
 VARIANTS = range(10)

@@ -23,8 +23,9 @@ from legent_gym.world.generation import (
     parse_rooms,
 )
 from legent_gym.world.generation.validate import find_receptacle
-from legent_gym.world.navigation import NavGrid, object_footprint
-from legent_gym.world.scene import ObjectInstance, polygon_signed_area, validate_scene
+from legent_gym.world.geometry import object_footprint, polygon_signed_area
+from legent_gym.world.navigation import NavGrid
+from legent_gym.world.scene import ObjectInstance, validate_scene
 
 PRESET_ROOMS = {
     "OneRoom": [["bedroom"]],
@@ -110,7 +111,7 @@ def _check_structure(scene) -> None:
     cover = np.zeros(nav.shape, dtype=int)
     for room in scene.rooms:
         mask = np.zeros(nav.shape, dtype=bool)
-        nav._raster.fill_polygon(mask, np.asarray(room.polygon))
+        nav.raster.fill_polygon(mask, np.asarray(room.polygon))
         cover += mask
     assert cover.max() == 1
     # Walls: every segment once, shared ones between two rooms, outer ones with the exterior.

@@ -9,7 +9,8 @@ import numpy as np
 import pytest
 
 from legent_gym.world.assets import registry
-from legent_gym.world.navigation import NavGrid, object_footprint
+from legent_gym.world.geometry import object_footprint
+from legent_gym.world.navigation import NavGrid
 from legent_gym.world.scene import Door, ObjectInstance, Room, Scene, Spawn, Wall
 
 RADIUS = 0.25

@@ -231,7 +231,7 @@ def test_gltf_asset_imports_renders_and_collides(tmp_path):
         "objects": [{"id": 0, "asset": "gadget", "position": [0, 0, 0.3], "kind": "interactable"}],
         "agent": {"position": [1.5, 1.5]},
     }, asset_known=None)
-    scene._base_dir = tmp_path
+    scene.base_dir = tmp_path
     world = build_world(scene)
     for _ in range(int(1.5 / world.model.opt.timestep)):
         mujoco.mj_step(world.model, world.data)

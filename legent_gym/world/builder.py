@@ -28,6 +28,13 @@ import numpy as np
 
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import AssetModel, Link, Part, box_part, cylinder_part
+from legent_gym.world.geometry import (
+    door_hinge_point,
+    door_leads_outside,
+    heading_deg,
+    points_in_polygon,
+    wall_frame,
+)
 from legent_gym.world.meshing import (
     ColouredMesh,
     MeshAccumulator,
@@ -188,7 +195,8 @@ class _SpecBuilder:
         self.assets: dict[int, AssetModel] = {}
         # Geoms whose palette UVs must be filled in once the palette is complete.
         self._palette_uvs = self.palette.all_uvs()
-        self._door_initial: dict[str, float] = {}  # door id -> initial hinge angle
+        #: door id -> initial hinge angle (radians), set on the compiled model's data
+        self.door_initial: dict[str, float] = {}
         self._mesh_count = 0
         self._texture_count = 0
         self._imported = {a.id: a for a in scene.assets}
@@ -336,7 +344,7 @@ class _SpecBuilder:
                 walls.add(v, f, colours)
                 self._wall_collision(wall, piece)
             for door in scene.doors:
-                if door.wall == wall.id and _leads_outside(wall, door):
+                if door.wall == wall.id and door_leads_outside(wall, door):
                     self._doorway_barrier(wall, door)
         if self.options.naive:
             # The reference build: a plane floor (drawn as a grid of many quads) and plain geoms.
@@ -370,52 +378,46 @@ class _SpecBuilder:
             return room_colour[rooms[0]], room_colour[rooms[0]]
         # Probe a point just left of the wall's middle and see which room polygon holds it.
         (x0, y0), (x1, y1) = wall.start, wall.end
-        length = max(wall.length, 1e-9)
-        nx, ny = -(y1 - y0) / length, (x1 - x0) / length
-        probe = ((x0 + x1) / 2 + nx * 0.2, (y0 + y1) / 2 + ny * 0.2)
-        left_room = rooms[0] if _point_in_polygon(probe, self.scene.room(rooms[0]).polygon) else rooms[1]
+        _, _, left, _ = wall_frame(wall)
+        probe = np.array([[(x0 + x1) / 2 + left[0] * 0.2, (y0 + y1) / 2 + left[1] * 0.2]])
+        left_of_wall = points_in_polygon(probe, np.asarray(self.scene.room(rooms[0]).polygon))[0]
+        left_room = rooms[0] if left_of_wall else rooms[1]
         right_room = rooms[1] if left_room == rooms[0] else rooms[0]
         return room_colour[left_room], room_colour[right_room]
 
     def _wall_collision(self, wall, piece) -> None:
-        (x0, y0), (x1, y1) = wall.start, wall.end
-        length = max(wall.length, 1e-9)
-        ux, uy = (x1 - x0) / length, (y1 - y0) / length
-        mid = (piece.a + piece.b) / 2
+        start, u, _, _ = wall_frame(wall)
+        centre = start + u * ((piece.a + piece.b) / 2)
         self.spec.worldbody.add_geom(
             type=mujoco.mjtGeom.mjGEOM_BOX, group=GROUP_COLLISION,
             size=[(piece.b - piece.a) / 2, wall.thickness / 2, (piece.z1 - piece.z0) / 2],
-            pos=[x0 + ux * mid, y0 + uy * mid, (piece.z0 + piece.z1) / 2],
-            quat=yaw_quat(math.degrees(math.atan2(uy, ux))).tolist(),
+            pos=[*centre.tolist(), (piece.z0 + piece.z1) / 2],
+            quat=yaw_quat(heading_deg(u)).tolist(),
         )
 
     def _doorway_barrier(self, wall, door) -> None:
         """An invisible slab across a door to the outside, seen by the avatars' collision
         only (no contacts, no rendering): the house has no floor beyond it, so walking out
         would leave the agent where nothing can be done (the door itself still opens)."""
-        (x0, y0), (x1, y1) = wall.start, wall.end
-        length = max(wall.length, 1e-9)
-        ux, uy = (x1 - x0) / length, (y1 - y0) / length
+        start, u, _, _ = wall_frame(wall)
+        centre = start + u * door.offset
         self.spec.worldbody.add_geom(
             type=mujoco.mjtGeom.mjGEOM_BOX, group=GROUP_COLLISION, contype=0, conaffinity=0,
             name=f"doorway_barrier_{door.id}",
             size=[door.width / 2, wall.thickness / 2, door.height / 2],
-            pos=[x0 + ux * door.offset, y0 + uy * door.offset, door.height / 2],
-            quat=yaw_quat(math.degrees(math.atan2(uy, ux))).tolist(),
+            pos=[*centre.tolist(), door.height / 2],
+            quat=yaw_quat(heading_deg(u)).tolist(),
         )
 
     # -- doors -----------------------------------------------------------------------------
     def _add_door_leaf(self, door) -> None:
         wall = self.scene.wall(door.wall)
-        (x0, y0), (x1, y1) = wall.start, wall.end
-        length = max(wall.length, 1e-9)
-        ux, uy = (x1 - x0) / length, (y1 - y0) / length
-        along = door.offset - door.width / 2 if door.hinge == "start" else door.offset + door.width / 2
-        hinge = (x0 + ux * along, y0 + uy * along)
-        wall_angle = math.degrees(math.atan2(uy, ux))
+        _, u, _, _ = wall_frame(wall)
+        hinge = door_hinge_point(wall, door)
+        wall_angle = heading_deg(u)
         # Leaf frame: x along the closed leaf from the hinge toward the opening's other end.
         leaf_yaw = wall_angle if door.hinge == "start" else wall_angle + 180
-        body = self.spec.worldbody.add_body(name=f"door_{door.id}", pos=[*hinge, 0.0],
+        body = self.spec.worldbody.add_body(name=f"door_{door.id}", pos=[*hinge.tolist(), 0.0],
                                             quat=yaw_quat(leaf_yaw).tolist())
         # Swinging to the left of the wall direction is +yaw for a start hinge, and mirrored.
         to_left = (door.swing == "left") == (door.hinge == "start")
@@ -430,7 +432,7 @@ class _SpecBuilder:
         body.ipos = [leaf_w / 2, 0.0, door.height / 2]  # the leaf's centre: what "the door" is
         body.inertia = [2.0, 2.0, 2.0]
         body.explicitinertial = True
-        self._door_initial[door.id] = door.openness * (limit if to_left else -limit)
+        self.door_initial[door.id] = door.openness * (limit if to_left else -limit)
 
     # -- objects -------------------------------------------------------------------------
     def _asset_for(self, obj) -> AssetModel:
@@ -510,11 +512,6 @@ class _SpecBuilder:
             self._palette_texture.data = styled_palette(self.palette.image(), self._style).tobytes()
 
 
-def _leads_outside(wall, door) -> bool:
-    """Whether the door opens onto the outside (its wall, or the door, names "exterior")."""
-    return "exterior" in wall.rooms or "exterior" in door.connects
-
-
 # Avatars and door leaves are the same few shapes in every house: one Link object per shape,
 # so their merged geometry is cached like an asset's (link_geometry caches per Link).
 
@@ -539,16 +536,6 @@ def _door_leaf_link(leaf_w: float, height: float) -> Link:
     handles = [box_part((leaf_w - 0.08, s * handle_y, 1.0), (0.12, 0.02, 0.03), (0.75, 0.75, 0.7, 1),
                         collision="none", material="metal") for s in (-1, 1)]
     return Link("leaf", [panel, *handles])
-
-
-def _point_in_polygon(point, polygon) -> bool:
-    x, y = point
-    inside = False
-    pts = list(polygon)
-    for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1]):
-        if (y0 > y) != (y1 > y) and x < x0 + (y - y0) * (x1 - x0) / (y1 - y0):
-            inside = not inside
-    return inside
 
 
 # ---------------------------------------------------------------------------------------
@@ -595,7 +582,7 @@ def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
             jid = model.joint(f"door_{door.id}_hinge").id
             door_joint[door.id] = jid
             door_body[door.id] = model.body(f"door_{door.id}").id
-            data.qpos[model.jnt_qposadr[jid]] = b._door_initial[door.id]
+            data.qpos[model.jnt_qposadr[jid]] = b.door_initial[door.id]
     free = [o.id for o in scene.objects if o.kind == "interactable"]
     world = World(scene, model, data, b.assets, object_body, object_joints, door_joint, door_body,
                   geom_object, geom_door, b.palette, options, free)

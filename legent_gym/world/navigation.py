@@ -25,14 +25,25 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
-from collections.abc import Iterable, Sequence
+from collections.abc import Sequence
 
 import numpy as np
 from scipy import ndimage
 from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
-from legent_gym.world.scene import Door, ObjectInstance, Scene, Wall
+from legent_gym.world.geometry import (
+    axis_aligned_closest,
+    closest_points_on_rect,
+    door_leaf_open_segment,
+    door_passable,
+    inside_polygon,
+    is_floor_furniture,
+    object_footprint,
+    wall_frame,
+    wall_solid_spans,
+)
+from legent_gym.world.scene import Door, Scene
 
 DEFAULT_AGENT_RADIUS = 0.25
 DEFAULT_RESOLUTION = 0.05
@@ -43,112 +54,7 @@ XY = tuple[float, float]
 
 
 # ---------------------------------------------------------------------------------------
-# Geometry of scene elements (shared with generation and validation)
-
-
-def yaw_of(obj: ObjectInstance) -> float:
-    """The object's heading in degrees (rotation about z)."""
-    return float(obj.rotation[2])
-
-
-def rotation_matrix(yaw_deg: float) -> np.ndarray:
-    """2x2 matrix that rotates a vector by ``yaw_deg`` degrees counter-clockwise."""
-    a = math.radians(yaw_deg)
-    c, s = math.cos(a), math.sin(a)
-    # Snap exact quarter turns so axis-aligned pieces stay exactly axis-aligned.
-    c, s = (round(c) if abs(c - round(c)) < 1e-12 else c), (round(s) if abs(s - round(s)) < 1e-12 else s)
-    return np.array([[c, -s], [s, c]])
-
-
-def rect_corners(center: Sequence[float], local: Sequence[float], yaw_deg: float) -> np.ndarray:
-    """World corners (4, 2), counter-clockwise, of the local rectangle
-    ``(xmin, ymin, xmax, ymax)`` placed at ``center`` and turned by ``yaw_deg``."""
-    x0, y0, x1, y1 = local
-    pts = np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]], dtype=np.float64)
-    return pts @ rotation_matrix(yaw_deg).T + np.asarray(center[:2], dtype=np.float64)
-
-
-def asset_local_bounds(scene: Scene | None, obj: ObjectInstance) -> np.ndarray | None:
-    """The object's bounds ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` in its own frame,
-    scaled; ``None`` when the asset is unknown (an import without a size)."""
-    from legent_gym.world.assets import registry
-
-    scale = np.asarray(obj.scale, dtype=np.float64)
-    if scene is not None:
-        for imported in scene.assets:
-            if imported.id == obj.asset:
-                if imported.size is None:
-                    return None
-                size = np.asarray(imported.size) * scale
-                return np.array([[-size[0] / 2, -size[1] / 2, 0.0], [size[0] / 2, size[1] / 2, size[2]]])
-    if not registry.has(obj.asset):
-        return None
-    return registry.make(obj.asset, obj.variant).bounds() * scale
-
-
-def object_footprint(scene: Scene | None, obj: ObjectInstance) -> np.ndarray | None:
-    """World corners (4, 2) of the object's footprint, or ``None`` if its size is unknown."""
-    b = asset_local_bounds(scene, obj)
-    if b is None:
-        return None
-    return rect_corners(obj.position, (b[0, 0], b[0, 1], b[1, 0], b[1, 1]), yaw_of(obj))
-
-
-def is_floor_furniture(obj: ObjectInstance) -> bool:
-    """Furniture standing on the floor: static and not resting on another object."""
-    return obj.kind == "static" and obj.on is None
-
-
-def door_passable(door: Door) -> bool:
-    """An archway, or a door more than half open."""
-    return (not door.leaf) or door.openness > 0.5
-
-
-def wall_frame(wall: Wall) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """(start, unit direction, left normal, length) of a wall."""
-    start = np.asarray(wall.start, dtype=np.float64)
-    d = np.asarray(wall.end, dtype=np.float64) - start
-    length = float(np.hypot(*d))
-    u = d / length if length > 0 else np.array([1.0, 0.0])
-    return start, u, np.array([-u[1], u[0]]), length
-
-
-def wall_solid_spans(wall: Wall, doors: Iterable[Door], *, cut_closed: bool = False) -> list[tuple[float, float]]:
-    """Intervals ``[a, b]`` (metres from the wall's start) where the wall is solid at floor
-    level: the openings of passable doors are cut out (of every door with ``cut_closed``);
-    windows count as solid (they are above the floor).
-    """
-    length = wall.length
-    cuts = sorted(
-        (d.offset - d.width / 2, d.offset + d.width / 2)
-        for d in doors
-        if d.wall == wall.id and (cut_closed or door_passable(d))
-    )
-    spans, cursor = [], 0.0
-    for a, b in cuts:
-        if a > cursor + 1e-9:
-            spans.append((cursor, min(a, length)))
-        cursor = max(cursor, b)
-    if cursor < length - 1e-9:
-        spans.append((cursor, length))
-    return spans
-
-
-def door_hinge_point(wall: Wall, door: Door) -> np.ndarray:
-    start, u, _, _ = wall_frame(wall)
-    along = door.offset - door.width / 2 if door.hinge == "start" else door.offset + door.width / 2
-    return start + u * along
-
-
-def door_swing_normal(wall: Wall, door: Door) -> np.ndarray:
-    _, _, left, _ = wall_frame(wall)
-    return left if door.swing == "left" else -left
-
-
-def door_leaf_open_segment(wall: Wall, door: Door) -> tuple[np.ndarray, np.ndarray]:
-    """The leaf of a fully open door: from the hinge, perpendicular to the wall."""
-    hinge = door_hinge_point(wall, door)
-    return hinge, hinge + door_swing_normal(wall, door) * door.width
+# Rasterisation helpers (cell centres inside a shape)
 
 
 def leaf_half_thickness(resolution: float) -> float:
@@ -157,28 +63,7 @@ def leaf_half_thickness(resolution: float) -> float:
     return max(LEAF_THICKNESS / 2, 0.5 * resolution)
 
 
-def door_keepout_squares(wall: Wall, door: Door, depth: float | None = None) -> list[np.ndarray]:
-    """The free squares (4, 2) in front of a door on both sides of the wall, from the wall
-    faces: ``width`` wide along the wall and ``depth`` (default the width: the leaf's swing)
-    deep."""
-    start, u, left, _ = wall_frame(wall)
-    depth = door.width if depth is None else depth
-    half_t = wall.thickness / 2
-    centre = start + u * door.offset
-    squares = []
-    for side in (left, -left):
-        base = centre + side * half_t
-        a = base - u * door.width / 2
-        b = base + u * door.width / 2
-        squares.append(np.array([a, b, b + side * depth, a + side * depth]))
-    return squares
-
-
-# ---------------------------------------------------------------------------------------
-# Rasterisation helpers (cell centres inside a shape)
-
-
-class _Raster:
+class Raster:
     """Maps world coordinates to a grid and fills shapes into boolean masks."""
 
     def __init__(self, origin: XY, resolution: float, shape: tuple[int, int]):
@@ -206,20 +91,13 @@ class _Raster:
         return (slice(r0, r1), slice(c0, c1)), xs[:, c0:c1], ys[r0:r1]
 
     def fill_polygon(self, mask: np.ndarray, polygon: np.ndarray) -> None:
+        """Fill cells whose centre lies inside the polygon (even-odd rule)."""
         poly = np.asarray(polygon, dtype=np.float64)
         win = self.window(*poly.min(axis=0), *poly.max(axis=0))
         if win is None:
             return
         sl, xs, ys = win
-        inside = np.zeros((ys.shape[0], xs.shape[1]), dtype=bool)
-        # Even-odd crossing test, vectorised over the window's cell centres.
-        for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
-            if ya == yb:
-                continue
-            crosses = (ya > ys) != (yb > ys)
-            x_at = xa + (ys - ya) * (xb - xa) / (yb - ya)
-            inside ^= crosses & (xs < x_at)
-        mask[sl] |= inside
+        mask[sl] |= inside_polygon(xs, ys, poly)
 
     def fill_oriented_rect(self, mask: np.ndarray, centre: np.ndarray, u: np.ndarray,
                            along: tuple[float, float], across: tuple[float, float]) -> None:
@@ -321,7 +199,7 @@ class NavGrid:
         self.walkable = walkable_from_free(self.free, self.agent_radius, self.resolution)
         self.scene = scene
         self.footprints = footprints or {}
-        self._raster = _Raster(self.origin, self.resolution, self.free.shape)
+        self.raster = Raster(self.origin, self.resolution, self.free.shape)
         self._labels: np.ndarray | None = None
         self._nearest: np.ndarray | None = None
         self._graph: csr_matrix | None = None
@@ -343,7 +221,7 @@ class NavGrid:
         origin = (xmin - margin, ymin - margin)
         shape = (int(math.ceil((ymax - ymin + 2 * margin) / resolution)),
                  int(math.ceil((xmax - xmin + 2 * margin) / resolution)))
-        raster = _Raster(origin, resolution, shape)
+        raster = Raster(origin, resolution, shape)
         floor = np.zeros(shape, dtype=bool)
         for room in scene.rooms:
             raster.fill_polygon(floor, np.asarray(room.polygon))
@@ -608,13 +486,13 @@ class NavGrid:
         ``first_only`` returns just the nearest such cell (faster)."""
         c = np.asarray(corners, dtype=np.float64)
         lo, hi = c.min(axis=0) - reach, c.max(axis=0) + reach
-        win = self._raster.window(lo[0], lo[1], hi[0], hi[1])
+        win = self.raster.window(lo[0], lo[1], hi[0], hi[1])
         empty = (np.zeros((0, 2), dtype=np.int64), np.zeros(0))
         if win is None:
             return empty
         sl, xs, ys = win
         sub = (self.walkable if component is None else self._component_mask(component))[sl]
-        separable = _axis_aligned_nearest(c, xs[0], ys[:, 0])
+        separable = axis_aligned_closest(c, xs[0], ys[:, 0])
         if separable is not None:
             # An axis-aligned footprint (furniture turns by quarter turns): the nearest
             # point's x depends on the column only and its y on the row only.
@@ -631,7 +509,7 @@ class NavGrid:
             if len(rr) == 0:
                 return empty
             px, py = xs[0, cc], ys[rr, 0]
-            nearest = _closest_on_rect(c, np.column_stack([px, py]))
+            nearest = closest_points_on_rect(c, np.column_stack([px, py]))
             dist = np.hypot(nearest[:, 0] - px, nearest[:, 1] - py)
             near = np.nonzero(dist <= reach)[0]
             # Nearest first; the line-of-sight work below is done only on the candidates it
@@ -778,37 +656,7 @@ def _segment_clear(mask: np.ndarray, sx: float, sy: float, tx: float, ty: float)
     return True
 
 
-def _axis_aligned_nearest(corners: np.ndarray, xs: np.ndarray, ys: np.ndarray
-                          ) -> tuple[np.ndarray, np.ndarray] | None:
-    """For a rectangle whose edges lie along the axes (exact zeros in its edge vectors),
-    :func:`_closest_on_rect`'s nearest x for each of ``xs`` and nearest y for each of
-    ``ys``, by the same arithmetic (a dot product with an exact zero term is the other
-    product, rounded once); None for any other rectangle."""
-    o = corners[0]
-    e0, e1 = corners[1] - o, corners[3] - o
-    if e0[1] == 0.0 and e1[0] == 0.0:
-        ex, ey, lx, ly = e0[0], e1[1], float(e0 @ e0), float(e1 @ e1)
-    elif e0[0] == 0.0 and e1[1] == 0.0:
-        ex, ey, lx, ly = e1[0], e0[1], float(e1 @ e1), float(e0 @ e0)
-    else:
-        return None
-    sx = np.clip((xs - o[0]) * ex / max(lx, 1e-12), 0.0, 1.0)
-    sy = np.clip((ys - o[1]) * ey / max(ly, 1e-12), 0.0, 1.0)
-    return o[0] + sx * ex + 0.0, o[1] + sy * ey + 0.0
-
-
-def _closest_on_rect(corners: np.ndarray, pts: np.ndarray) -> np.ndarray:
-    """Closest points of the (filled) rectangle ``corners`` to each of ``pts``."""
-    o = corners[0]
-    e0, e1 = corners[1] - o, corners[3] - o
-    l0, l1 = float(e0 @ e0), float(e1 @ e1)
-    rel = pts - o
-    s = np.clip(rel @ e0 / max(l0, 1e-12), 0.0, 1.0)
-    t = np.clip(rel @ e1 / max(l1, 1e-12), 0.0, 1.0)
-    return o + s[:, None] * e0 + t[:, None] * e1
-
-
-def _fill_walls(raster: _Raster, walls: np.ndarray, obstacles: np.ndarray, scene: Scene) -> None:
+def _fill_walls(raster: Raster, walls: np.ndarray, obstacles: np.ndarray, scene: Scene) -> None:
     doors_by_wall: dict[str, list[Door]] = {}
     for door in scene.doors:
         doors_by_wall.setdefault(door.wall, []).append(door)

@@ -36,7 +36,7 @@ def preview_scene(asset_id: str, variant: int = 0, *, imported: ImportedAsset | 
     }
     scene = validate_scene(data, asset_known=registry.has if imported is None else None)
     if base_dir is not None:
-        scene._base_dir = base_dir
+        scene.base_dir = base_dir
     return scene
 
 

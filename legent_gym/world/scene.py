@@ -25,13 +25,14 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator
 
 from legent_gym.atomic import atomic_write_text
+from legent_gym.world.geometry import polygon_signed_area
 
 SCENE_FORMAT = "legent_gym.scene"
 SCENE_VERSION = 1
@@ -202,8 +203,19 @@ class Scene(_Model):
     agent: Spawn
     user: Spawn | None = None
     lights: list[Light] = Field(default_factory=list)
-    #: Directory that relative imported-asset paths resolve against (not serialised).
+    # Where relative imported-asset paths resolve from: not part of the format, so a
+    # private attribute (never serialised), read and set through ``base_dir``.
     _base_dir: Path | None = PrivateAttr(default=None)
+
+    @property
+    def base_dir(self) -> Path | None:
+        """Directory that relative imported-asset paths resolve against (the scene file's
+        folder when loaded from a file; ``None``: the working directory). Not serialised."""
+        return self._base_dir
+
+    @base_dir.setter
+    def base_dir(self, directory: Path | None) -> None:
+        self._base_dir = None if directory is None else Path(directory)
 
     # -- lookups ------------------------------------------------------------------------
     def object(self, object_id: int) -> ObjectInstance:
@@ -236,17 +248,6 @@ class Scene(_Model):
 
     def to_json(self, indent: int | None = 1) -> str:
         return json.dumps(self.to_dict(), indent=indent, ensure_ascii=False) + "\n"
-
-
-# ---------------------------------------------------------------------------------------
-# Geometry helpers used by validation (kept here so the format has no other dependency)
-
-
-def polygon_signed_area(polygon: Iterable[tuple[float, float]]) -> float:
-    pts = list(polygon)
-    return 0.5 * sum(
-        x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(pts, pts[1:] + pts[:1], strict=True)
-    )
 
 
 # ---------------------------------------------------------------------------------------
@@ -397,7 +398,7 @@ def load_scene(path: str | os.PathLike, **kwargs) -> Scene:
         raise SceneError([("", "file is not UTF-8 text")], str(path)) from None
     scene = loads_scene(text, source=str(path), **kwargs)
     # Remember where the file was, so relative asset sources resolve (not serialised).
-    scene._base_dir = path.parent.resolve()
+    scene.base_dir = path.parent.resolve()
     return scene
 
 
@@ -406,7 +407,7 @@ def save_scene(scene: Scene, path: str | os.PathLike) -> None:
 
 
 def scene_base_dir(scene: Scene) -> Path:
-    return scene._base_dir or Path.cwd()
+    return scene.base_dir or Path.cwd()
 
 
 def scene_json_schema() -> dict[str, Any]:

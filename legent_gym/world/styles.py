@@ -5,6 +5,9 @@ world is built (``Scene.style.preset``). Domain randomisation re-colours the pal
 texture and jitters the lights of an already built world in place, so an episode can get a
 new look without a rebuild: call :func:`randomize_appearance`, then the renderer's
 ``upload_textures()``.
+
+(What floors and walls a generated house gets is
+:mod:`legent_gym.world.generation.surfaces_and_lights`.)
 """
 
 from __future__ import annotations
@@ -71,6 +74,26 @@ def styled_palette(image: np.ndarray, preset: StylePreset) -> np.ndarray:
     return np.round(out * 255).astype(np.uint8).reshape(image.shape)
 
 
+@dataclass(frozen=True, eq=False)
+class BaseAppearance:
+    """A built world's look before any randomisation: what every re-colouring starts from,
+    so that repeated calls do not drift. Kept in ``world.derived`` under this class."""
+
+    palette: np.ndarray  #: (H, W, 3) uint8 palette texture
+    light_diffuse: np.ndarray  #: (nlight, 3)
+    ambient: np.ndarray  #: (3,) headlight ambient
+
+
+def base_appearance(world) -> BaseAppearance:
+    """The world's look before randomisation, recorded on first use."""
+    found = world.derived.get(BaseAppearance)
+    if found is None:
+        model = world.model
+        found = world.derived[BaseAppearance] = BaseAppearance(
+            _palette_texture(model).copy(), model.light_diffuse.copy(), model.vis.headlight.ambient.copy())
+    return found
+
+
 def randomize_appearance(world, rng: np.random.Generator, *, hue: float = 0.08, saturation: float = 0.25,
                          value: float = 0.2, light: float = 0.3) -> None:
     """Re-colour the palette and jitter lights of a built world, in place.
@@ -81,21 +104,18 @@ def randomize_appearance(world, rng: np.random.Generator, *, hue: float = 0.08, 
     on renderers of this world afterwards.
     """
     model = world.model
-    if not hasattr(world, "_base_palette"):
-        world._base_palette = _palette_texture(model).copy()
-        world._base_light_diffuse = model.light_diffuse.copy()
-        world._base_ambient = model.vis.headlight.ambient.copy()
-    base = world._base_palette.reshape(-1, 3).astype(np.float64) / 255.0
+    original = base_appearance(world)
+    base = original.palette.reshape(-1, 3).astype(np.float64) / 255.0
     n = len(base)
     hsv = np.array([colorsys.rgb_to_hsv(*c) for c in base])
     hsv[:, 0] = (hsv[:, 0] + rng.uniform(-hue, hue, n)) % 1.0
     hsv[:, 1] = np.clip(hsv[:, 1] * rng.uniform(1 - saturation, 1 + saturation, n), 0, 1)
     hsv[:, 2] = np.clip(hsv[:, 2] * rng.uniform(1 - value, 1 + value, n), 0, 1)
     rgb = np.array([colorsys.hsv_to_rgb(*c) for c in hsv])
-    _palette_texture(model)[:] = np.round(rgb * 255).astype(np.uint8).reshape(world._base_palette.shape)
+    _palette_texture(model)[:] = np.round(rgb * 255).astype(np.uint8).reshape(original.palette.shape)
     if model.nlight:
-        model.light_diffuse[:] = world._base_light_diffuse * rng.uniform(1 - light, 1 + light, (model.nlight, 1))
-    model.vis.headlight.ambient[:] = world._base_ambient * rng.uniform(1 - light, 1 + light)
+        model.light_diffuse[:] = original.light_diffuse * rng.uniform(1 - light, 1 + light, (model.nlight, 1))
+    model.vis.headlight.ambient[:] = original.ambient * rng.uniform(1 - light, 1 + light)
 
 
 def _palette_texture(model) -> np.ndarray:

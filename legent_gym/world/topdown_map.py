@@ -12,16 +12,17 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from legent_gym.world.navigation import (
-    NavGrid,
+from legent_gym.world.geometry import (
     door_hinge_point,
     door_passable,
     door_swing_normal,
     is_floor_furniture,
     object_footprint,
+    opening_span,
     wall_frame,
     wall_solid_spans,
 )
+from legent_gym.world.navigation import NavGrid
 from legent_gym.world.scene import Scene
 
 BACKGROUND = (245, 245, 245)
@@ -129,7 +130,7 @@ def _draw_walls(img: np.ndarray, view: _View, scene: Scene) -> None:
             cv2.line(img, view.pt(start + u * a), view.pt(start + u * b), WALL, thick, cv2.LINE_AA)
         for win in scene.windows:
             if win.wall == wall.id:
-                a, b = win.offset - win.width / 2, win.offset + win.width / 2
+                a, b = opening_span(win)
                 cv2.line(img, view.pt(start + u * a), view.pt(start + u * b), WINDOW, max(1, thick // 2), cv2.LINE_AA)
         for door in doors:
             _draw_door(img, view, wall, door, thick)
@@ -137,7 +138,8 @@ def _draw_walls(img: np.ndarray, view: _View, scene: Scene) -> None:
 
 def _draw_door(img, view, wall, door, thick) -> None:
     start, u, _, _ = wall_frame(wall)
-    a, b = start + u * (door.offset - door.width / 2), start + u * (door.offset + door.width / 2)
+    lo, hi = opening_span(door)
+    a, b = start + u * lo, start + u * hi
     if not door_passable(door):  # closed: a leaf across the opening
         cv2.line(img, view.pt(a), view.pt(b), DOOR, max(2, thick // 2), cv2.LINE_AA)
         return

@@ -251,8 +251,9 @@ def _unit_icosphere() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     icosahedron's vertices, their unit directions and lengths, and the faces."""
     import trimesh
 
-    ico = trimesh.creation.icosahedron()
-    ico._validate = False
+    # icosphere() marks its icosahedron as not to be validated; Trimesh never validates
+    # unless asked (validate=False by default), so the plain constructor is the same mesh.
+    ico = trimesh.creation.icosahedron(validate=False)
     ico = ico.subdivide()
     base = np.array(ico.vertices, dtype=np.float64)
     scalar = np.sqrt(np.dot(base**2, [1, 1, 1]))

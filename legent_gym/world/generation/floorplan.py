@@ -22,6 +22,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from legent_gym.world.generation.roomtypes import ROOM_TYPES
+from legent_gym.world.geometry import (
+    bounding_box,
+    boxes_overlap,
+    door_keepout_squares,
+    door_leaf_open_segment,
+    opening_span,
+    polygon_signed_area,
+    turn_cross,
+)
 from legent_gym.world.scene import Door, Wall, Window
 
 OUT, FREE = -1, -2
@@ -317,15 +326,11 @@ def room_polygon(grid: np.ndarray, i: int, cell: tuple[float, float]) -> list[tu
     while p != start:
         loop.append(p)
         p = nxt[p]
-    pts = [q for k, q in enumerate(loop) if not _collinear(loop[k - 1], q, loop[(k + 1) % len(loop)])]
+    pts = [q for k, q in enumerate(loop) if turn_cross(loop[k - 1], q, loop[(k + 1) % len(loop)]) != 0]
     # Start at the lowest-left corner for a stable order.
     k0 = min(range(len(pts)), key=lambda k: (pts[k][1], pts[k][0]))
     pts = pts[k0:] + pts[:k0]
     return [(r4(x * cell[0]), r4(y * cell[1])) for x, y in pts]
-
-
-def _collinear(a: tuple[int, int], b: tuple[int, int], c: tuple[int, int]) -> bool:
-    return (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]) == 0
 
 
 @dataclass
@@ -486,21 +491,14 @@ def place_doors(fp: FloorPlan, rng: np.random.Generator, *, openness: float = 1.
 
 
 def _door_zones(fp: FloorPlan, door: Door) -> tuple[list[np.ndarray], np.ndarray | None]:
-    """(free squares in front of the door, open-leaf slab) as AABBs."""
-    from legent_gym.world.navigation import door_keepout_squares, door_leaf_open_segment
-
+    """(free squares in front of the door, open-leaf slab) as boxes."""
     wall = next(w for w in fp.walls if w.id == door.wall)
-    depth = door.width if door.leaf else min(door.width, 0.9)
-    squares = [np.concatenate([q.min(axis=0), q.max(axis=0)]) for q in door_keepout_squares(wall, door, depth)]
+    squares = [bounding_box(q) for q in door_keepout_squares(wall, door)]
     leaf = None
     if door.leaf:
         a, b = door_leaf_open_segment(wall, door)
         leaf = np.concatenate([np.minimum(a, b) - 0.03, np.maximum(a, b) + 0.03])
     return squares, leaf
-
-
-def _boxes_meet(a: np.ndarray, b: np.ndarray) -> bool:
-    return bool(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3])
 
 
 def _door_conflicts(fp: FloorPlan, door: Door) -> bool:
@@ -511,7 +509,7 @@ def _door_conflicts(fp: FloorPlan, door: Door) -> bool:
     for other in fp.doors:
         osq, oleaf = _door_zones(fp, other)
         theirs = osq + ([oleaf] if oleaf is not None else [])
-        if any(_boxes_meet(a, b) for a in mine for b in theirs):
+        if any(boxes_overlap(a, b) for a in mine for b in theirs):
             return True
     return False
 
@@ -579,12 +577,13 @@ def place_windows(fp: FloorPlan, rng: np.random.Generator) -> None:
         return
     door_spans: dict[str, list[tuple[float, float]]] = {}
     for d in fp.doors:
-        door_spans.setdefault(d.wall, []).append((d.offset - d.width / 2 - 0.3, d.offset + d.width / 2 + 0.3))
+        lo, hi = opening_span(d)
+        door_spans.setdefault(d.wall, []).append((lo - 0.3, hi + 0.3))
     for i in range(len(fp.types)):
         walls = [k for k in fp.exterior_walls(i) if fp.walls[k].length >= 2.0]
         if not walls:
             continue
-        area = abs(_shoelace(fp.polygons[i]))
+        area = abs(polygon_signed_area(fp.polygons[i]))
         count = (2 if area > 15 and rng.random() < 0.4 else 1) if rng.random() < 0.85 else 0
         for k in rng.permutation(len(walls))[:count].tolist():
             wall = fp.walls[walls[k]]
@@ -598,6 +597,3 @@ def place_windows(fp: FloorPlan, rng: np.random.Generator) -> None:
             fp.windows.append(Window(id=f"window_{len(fp.windows)}", wall=wall.id, offset=offset,
                                      width=width, height=height, sill=sill))
 
-
-def _shoelace(poly: list[tuple[float, float]]) -> float:
-    return 0.5 * sum(x0 * y1 - x1 * y0 for (x0, y0), (x1, y1) in zip(poly, poly[1:] + poly[:1]))

@@ -30,11 +30,26 @@ from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import AssetModel, Receptacle
 from legent_gym.world.generation.conditions import Catalog
 from legent_gym.world.generation.floorplan import WALL_THICKNESS, FloorPlan
-from legent_gym.world.navigation import (
-    _Raster,
+from legent_gym.world.geometry import (
+    QUARTER_TURNS,
+    bounding_box,
     door_keepout_squares,
     door_leaf_open_segment,
     door_passable,
+    expand,
+    inset_polygon,
+    local_footprint,
+    opening_span,
+    overlap_matrix,
+    points_in_polygon,
+    quarter_turns_facing,
+    rects_in_polygon,
+    turn_cross,
+    turned_rect,
+    wall_frame,
+)
+from legent_gym.world.navigation import (
+    Raster,
     leaf_half_thickness,
     least_square_distance,
     walkable_from_free,
@@ -150,65 +165,6 @@ def allowed_room_types(catalog: Catalog, category: str) -> set[str]:
 
 
 # ---------------------------------------------------------------------------------------
-# Axis-aligned geometry with quarter-turn yaws (q = yaw / 90 in 0..3)
-
-_ROT = np.array([[[1, 0], [0, 1]], [[0, -1], [1, 0]], [[-1, 0], [0, -1]], [[0, 1], [-1, 0]]], dtype=np.float64)
-
-
-def turned_rect(local: np.ndarray, q: int) -> np.ndarray:
-    """(x0, y0, x1, y1) offsets of the local rectangle ``local`` turned by ``q`` quarter turns."""
-    x0, y0, x1, y1 = local
-    return np.array([(x0, y0, x1, y1), (-y1, x0, -y0, x1), (-x1, -y1, -x0, -y0), (y0, -x1, y1, -x0)][q % 4])
-
-
-def overlaps(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """(A, B) matrix: whether rectangles a[i] and b[j] overlap with positive area."""
-    if len(a) == 0 or len(b) == 0:
-        return np.zeros((len(a), len(b)), dtype=bool)
-    a, b = a[:, None, :], b[None, :, :]
-    return ((a[..., 0] < b[..., 2] - EPS) & (b[..., 0] < a[..., 2] - EPS)
-            & (a[..., 1] < b[..., 3] - EPS) & (b[..., 1] < a[..., 3] - EPS))
-
-
-def expand(rects: np.ndarray, m: float) -> np.ndarray:
-    return rects + np.array([-m, -m, m, m])
-
-
-def inset_polygon(poly: np.ndarray, d: float) -> np.ndarray:
-    """A counter-clockwise rectilinear polygon moved inward by ``d`` (each vertex shifts
-    by the inward normals of its two edges)."""
-    prev_e = poly - np.roll(poly, 1, axis=0)
-    next_e = np.roll(poly, -1, axis=0) - poly
-    n_prev = np.column_stack([-prev_e[:, 1], prev_e[:, 0]]) / np.linalg.norm(prev_e, axis=1)[:, None]
-    n_next = np.column_stack([-next_e[:, 1], next_e[:, 0]]) / np.linalg.norm(next_e, axis=1)[:, None]
-    return poly + d * (n_prev + n_next)
-
-
-def points_in_polygon(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    inside = np.zeros(len(pts), dtype=bool)
-    x, y = pts[:, 0], pts[:, 1]
-    for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
-        if ya == yb:
-            continue
-        crosses = (ya > y) != (yb > y)
-        x_at = xa + (y - ya) * (xb - xa) / (yb - ya)
-        inside ^= crosses & (x < x_at)
-    return inside
-
-
-def rects_in_polygon(rects: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    """Whether each rectangle lies inside a rectilinear polygon (touching allowed)."""
-    if len(rects) == 0:
-        return np.zeros(0, dtype=bool)
-    r = expand(rects, -1e-5)
-    corners = np.stack([r[:, [0, 1]], r[:, [2, 1]], r[:, [2, 3]], r[:, [0, 3]]], axis=1).reshape(-1, 2)
-    ok = points_in_polygon(corners, poly).reshape(-1, 4).all(axis=1)
-    vx, vy = poly[:, 0][None, :], poly[:, 1][None, :]
-    vertex_inside = ((vx > r[:, 0:1]) & (vx < r[:, 2:3]) & (vy > r[:, 1:2]) & (vy < r[:, 3:4])).any(axis=1)
-    return ok & ~vertex_inside
-
-
-# ---------------------------------------------------------------------------------------
 # Placed pieces and rooms
 
 
@@ -244,11 +200,6 @@ class Placed:
         return self.support is None
 
 
-def local_rect(model: AssetModel) -> np.ndarray:
-    b = model.bounds()
-    return np.array([b[0, 0], b[0, 1], b[1, 0], b[1, 1]])
-
-
 @dataclass
 class Member:
     """A group member's pose in its anchor's frame."""
@@ -282,7 +233,7 @@ class RoomSpace:
 
     @property
     def bbox(self) -> np.ndarray:
-        return np.concatenate([self.inner.min(axis=0), self.inner.max(axis=0)])
+        return bounding_box(self.inner)
 
     def edges(self):
         """Inner wall edges: (start, unit direction, inward normal, length, start convex,
@@ -300,19 +251,10 @@ class RoomSpace:
             d = p1 - p0
             length = float(np.hypot(*d))
             e = d / length
-            conv0 = _convex(poly[k - 1], p0, p1)
-            conv1 = _convex(p0, p1, poly[(k + 2) % n])
+            conv0 = float(turn_cross(poly[k - 1], p0, p1)) > 0
+            conv1 = float(turn_cross(p0, p1, poly[(k + 2) % n])) > 0
             out.append((p0, e, np.array([-e[1], e[0]]), length, conv0, conv1))
         return out
-
-
-def _convex(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> bool:
-    return float((b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0])) > 0
-
-
-def _quarter_of(normal: np.ndarray) -> int:
-    """Quarter turns that point an asset's front (+y) along ``normal``."""
-    return {(0, 1): 0, (-1, 0): 1, (0, -1): 2, (1, 0): 3}[(int(round(normal[0])), int(round(normal[1])))]
 
 
 #: ndimage.label's default structure, made once (it is rebuilt on every call otherwise).
@@ -332,7 +274,7 @@ class RoomReach:
         x0 = np.floor((bb[0] - pad) / resolution + 1e-6) * resolution
         y0 = np.floor((bb[1] - pad) / resolution + 1e-6) * resolution
         shape = (int(np.ceil((bb[3] + pad - y0) / resolution)), int(np.ceil((bb[2] + pad - x0) / resolution)))
-        self.raster = _Raster((x0, y0), resolution, shape)
+        self.raster = Raster((x0, y0), resolution, shape)
         self.floor = np.zeros(shape, dtype=bool)
         self.raster.fill_polygon(self.floor, space.inner)
         #: Outside the room's inner outline (what blocks reach in an L-shaped room).
@@ -484,22 +426,20 @@ def room_spaces(fp: FloorPlan, rng: np.random.Generator) -> list[RoomSpace]:
                 hinge, tip = door_leaf_open_segment(walls[door.wall], door)
                 if points_in_polygon(((hinge + tip) / 2)[None, :], p)[0]:
                     leaves.append((hinge, tip))
-            depth = door.width if door.leaf else min(door.width, 0.9)
-            for sq in door_keepout_squares(walls[door.wall], door, depth):
+            for sq in door_keepout_squares(walls[door.wall], door):
                 centre = sq.mean(axis=0)
                 if points_in_polygon(centre[None, :], p)[0]:
-                    keep.append(np.concatenate([sq.min(axis=0), sq.max(axis=0)]))
+                    keep.append(bounding_box(sq))
                     mouths.append(door_mouth(sq, door.width))
         wins = []
         for win in fp.windows:
             wall = walls[win.wall]
             if wall.rooms[0] != fp.room_ids[i]:
                 continue
-            s, e = np.asarray(wall.start), np.asarray(wall.end)
-            u = (e - s) / wall.length
-            n = np.array([-u[1], u[0]])  # outer walls have their room on the left
-            a = s + u * (win.offset - win.width / 2) + n * (wall.thickness / 2)
-            b = s + u * (win.offset + win.width / 2) + n * (wall.thickness / 2 + WINDOW_DEPTH)
+            s, u, n, _ = wall_frame(wall)  # outer walls have their room on the left
+            lo, hi = opening_span(win)
+            a = s + u * lo + n * (wall.thickness / 2)
+            b = s + u * hi + n * (wall.thickness / 2 + WINDOW_DEPTH)
             wins.append([min(a[0], b[0]), min(a[1], b[1]), max(a[0], b[0]), max(a[1], b[1]), win.sill])
         space = RoomSpace(i, fp.types[i], inner, np.asarray(keep).reshape(-1, 4),
                           np.asarray(wins, dtype=np.float64).reshape(-1, 5), round(float(rng.uniform(0.1, 0.3)), 3),
@@ -545,10 +485,10 @@ class Furnisher:
         """Candidate poses (N, 4): x, y, quarter turns, preference. Poses of the asset's own
         ``placement`` come first (preference 10); wall poses are the fallback."""
         placement = model.placement if model.placement in ("wall", "corner", "middle") else "wall"
-        local = local_rect(model)
+        local = local_footprint(model)
         poses = []
         for p0, e, n, length, conv0, conv1 in space.edges():
-            q = _quarter_of(n)
+            q = quarter_turns_facing(n)
             s_min, s_max = WALL_GAP - local[0], length - WALL_GAP - local[2]
             if s_max < s_min:
                 continue
@@ -580,14 +520,14 @@ class Furnisher:
         others = [self.pieces[k] for k in space.pieces if self.pieces[k].on_floor]
         if others:
             feet = np.array([p.rect for p in others])
-            ok &= ~overlaps(flat, expand(feet, space.margin)).any(axis=1)
+            ok &= ~overlap_matrix(flat, expand(feet, space.margin)).any(axis=1)
             ofronts = np.array([p.front for p in others if p.front is not None]).reshape(-1, 4)
-            ok &= ~overlaps(flat, ofronts).any(axis=1)
-            ok &= ~(has_front & overlaps(fr, feet).any(axis=1))
-        ok &= ~overlaps(flat, space.keepouts).any(axis=1)
+            ok &= ~overlap_matrix(flat, ofronts).any(axis=1)
+            ok &= ~(has_front & overlap_matrix(fr, feet).any(axis=1))
+        ok &= ~overlap_matrix(flat, space.keepouts).any(axis=1)
         if len(space.windows):
             heights = np.tile(tall, c)
-            hit = overlaps(flat, space.windows[:, :4]) & (heights[:, None] > space.windows[None, :, 4] + WINDOW_TOLERANCE)
+            hit = overlap_matrix(flat, space.windows[:, :4]) & (heights[:, None] > space.windows[None, :, 4] + WINDOW_TOLERANCE)
             ok &= ~hit.any(axis=1)
         return ok.reshape(c, m).all(axis=1)
 
@@ -629,8 +569,8 @@ class Furnisher:
         rects = np.zeros((c, len(members), 4))
         fronts = np.zeros((c, len(members), 4))
         for j, m in enumerate(members):
-            local = local_rect(m.model)
-            off = np.einsum("cij,j->ci", _ROT[qs % 4], np.array([m.dx, m.dy]))
+            local = local_footprint(m.model)
+            off = np.einsum("cij,j->ci", QUARTER_TURNS[qs % 4], np.array([m.dx, m.dy]))
             ox, oy = xs + off[:, 0], ys + off[:, 1]
             mq = (qs + m.dq) % 4
             table = np.array([turned_rect(local, k) for k in range(4)])
@@ -677,7 +617,7 @@ class Furnisher:
         self._group += 1
         out = []
         for j, m in enumerate(members):
-            off = _ROT[q] @ np.array([m.dx, m.dy])
+            off = QUARTER_TURNS[q] @ np.array([m.dx, m.dy])
             fz = m.model.front_clearance
             piece = Placed(m.category, m.asset, m.variant, float(x + off[0]), float(y + off[1]), (q + m.dq) % 4,
                            m.model, space.index, self._group, rects[j].copy(),
@@ -708,7 +648,7 @@ class Furnisher:
     # -- groups -------------------------------------------------------------------------
     def group_variants(self, group: str, anchor: AssetModel) -> list[list[Member]]:
         """Member layouts for a group, fullest first (the last one is the anchor alone)."""
-        a = local_rect(anchor)
+        a = local_footprint(anchor)
         build = {"bed": self._bed, "sofa": self._sofa, "desk": self._desk, "dining": self._dining}.get(group)
         variants = build(a) if build else []
         variants = [v for v in variants if self._within_caps(v)]
@@ -724,7 +664,7 @@ class Furnisher:
         if not self.available("nightstand"):
             return []
         asset, variant, model = self.pick("nightstand")
-        m = local_rect(model)
+        m = local_footprint(model)
         y = a[1] - m[1]  # backs aligned at the wall
         left = Member("nightstand", asset, variant, model, a[0] - GROUP_GAP - m[2], y, 0)
         right = Member("nightstand", asset, variant, model, a[2] + GROUP_GAP - m[0], y, 0)
@@ -734,7 +674,7 @@ class Furnisher:
         if not self.available("coffee_table") or self.rng.random() > 0.85:
             return []
         asset, variant, model = self.pick("coffee_table")
-        m = local_rect(model)
+        m = local_footprint(model)
         gap = float(self.rng.uniform(0.4, 0.5))
         return [[Member("coffee_table", asset, variant, model, -(m[0] + m[2]) / 2, a[3] + gap - m[1], 0)]]
 
@@ -742,7 +682,7 @@ class Furnisher:
         if not self.available("chair"):
             return []
         asset, variant, model = self.pick("chair")
-        m = local_rect(model)
+        m = local_footprint(model)
         # Turned half a turn: the chair's front faces the desk.
         return [[Member("chair", asset, variant, model, (m[0] + m[2]) / 2, a[3] + GROUP_GAP + m[3], 2)]]
 
@@ -751,7 +691,7 @@ class Furnisher:
         if not self.available("chair"):
             return []
         asset, variant, model = self.pick("chair")
-        m = local_rect(model)
+        m = local_footprint(model)
         cw = m[2] - m[0]
         long_x = (a[2] - a[0]) >= (a[3] - a[1])
         side_len = (a[2] - a[0]) if long_x else (a[3] - a[1])
@@ -821,13 +761,13 @@ class Furnisher:
         k, rec = max(recs, key=lambda kr: (kr[1].height, kr[0]))
         for _ in range(tries):
             asset, variant, model = self.pick(category)
-            local = local_rect(model)
+            local = local_footprint(model)
             if model.size[2] > rec.clearance + EPS:
                 continue
             pos = fit_centered(rec, local)
             if pos is None:
                 continue
-            off = _ROT[base.q] @ pos
+            off = QUARTER_TURNS[base.q] @ pos
             rect = np.array([base.x + off[0], base.y + off[1]] * 2) + turned_rect(local, base.q)
             space = self.spaces[base.room]
             piece = Placed(category, asset, variant, float(base.x + off[0]), float(base.y + off[1]), base.q, model,

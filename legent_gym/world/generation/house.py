@@ -39,7 +39,6 @@ from legent_gym.world.generation.furnish import (
     PlacementFailed,
     allowed_room_types,
     furnish_house,
-    local_rect,
 )
 from legent_gym.world.generation.presets import preset
 from legent_gym.world.generation.roomtypes import ROOM_TYPES, parse_rooms
@@ -48,8 +47,13 @@ from legent_gym.world.generation.small_objects import (
     place_small_objects,
     receptacle_corners,
 )
-from legent_gym.world.generation.style import ceiling_light, light_point, room_surfaces
+from legent_gym.world.generation.surfaces_and_lights import (
+    ceiling_light,
+    light_point,
+    room_surfaces,
+)
 from legent_gym.world.generation.validate import check_house
+from legent_gym.world.geometry import local_footprint
 from legent_gym.world.navigation import NavGrid, clearance_at_least
 from legent_gym.world.scene import ObjectInstance, Room, Scene, Spawn
 
@@ -151,7 +155,7 @@ def _check_capacity(spec: HouseSpec, catalog: Catalog, c: Conditions) -> None:
     if spec.area is not None:
         biggest = min(biggest, spec.area[1])
     for cat in sorted(c.need):
-        lr = local_rect(catalog.describe(cat))
+        lr = local_footprint(catalog.describe(cat))
         need_area = c.need[cat] * (lr[2] - lr[0]) * (lr[3] - lr[1])
         if need_area > 0.5 * biggest:
             raise GenerationError(f"cannot place {c.labels[cat]}: {c.need[cat]} of them cover "
@@ -296,7 +300,7 @@ def _main_component(nav: NavGrid, fp: FloorPlan, spaces) -> int:
     votes: Counter[int] = Counter()
     for space in spaces:
         for m in space.mouths:
-            win = nav._raster.window(*m)
+            win = nav.raster.window(*m)
             if win is not None:
                 here = nav.labels[win[0]]
                 votes.update(here[here > 0].tolist())

@@ -17,11 +17,12 @@ import numpy as np
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import Receptacle
 from legent_gym.world.generation.conditions import Catalog
-from legent_gym.world.generation.furnish import (
-    _ROT,
-    Placed,
-    PlacementFailed,
-    local_rect,
+from legent_gym.world.generation.furnish import Placed, PlacementFailed
+from legent_gym.world.geometry import (
+    QUARTER_TURNS,
+    boxes_overlap,
+    local_footprint,
+    rect_corners,
     turned_rect,
 )
 
@@ -102,15 +103,14 @@ def surfaces_of(pieces: list[Placed]) -> list[Surface]:
 
 def _in_frame(base: Placed, item: Placed) -> np.ndarray:
     """Footprint of ``item`` in the frame of ``base`` (both quarter-turned)."""
-    d = _ROT[(-base.q) % 4] @ np.array([item.x - base.x, item.y - base.y])
-    return np.concatenate([d, d]) + turned_rect(local_rect(item.model), (item.q - base.q) % 4)
+    d = QUARTER_TURNS[(-base.q) % 4] @ np.array([item.x - base.x, item.y - base.y])
+    return np.concatenate([d, d]) + turned_rect(local_footprint(item.model), (item.q - base.q) % 4)
 
 
 def receptacle_corners(piece: Placed, rec: Receptacle) -> np.ndarray:
     """World corners (4, 2) of a receptacle rectangle."""
     c, h = np.asarray(rec.center), np.asarray(rec.half_size)
-    pts = np.array([c - h, [c[0] + h[0], c[1] - h[1]], c + h, [c[0] - h[0], c[1] + h[1]]])
-    return pts @ _ROT[piece.q].T + np.array([piece.x, piece.y])
+    return rect_corners((piece.x, piece.y), (*(c - h), *(c + h)), piece.q * 90)
 
 
 class SmallObjectPlacer:
@@ -138,10 +138,10 @@ class SmallObjectPlacer:
             if model.size[2] > surface.rec.clearance:
                 continue
             jitter = float(self.rng.uniform(-MAX_JITTER_YAW, MAX_JITTER_YAW))
-            pos = self._spot(surface, local_rect(model), jitter)
+            pos = self._spot(surface, local_footprint(model), jitter)
             if pos is None:
                 continue
-            self._commit(surface, category, asset, variant, pos, jitter, local_rect(model))
+            self._commit(surface, category, asset, variant, pos, jitter, local_footprint(model))
             return True
         return False
 
@@ -159,13 +159,13 @@ class SmallObjectPlacer:
         for _ in range(samples):
             p = self.rng.uniform(pmin, pmax)
             box = np.concatenate([p + lo - OBJECT_GAP, p + hi + OBJECT_GAP])
-            if not any(_boxes_overlap(box, o) for o in surface.occupied):
+            if not any(boxes_overlap(box, o) for o in surface.occupied):
                 return p
         return None
 
     def _commit(self, surface, category, asset, variant, pos, jitter, local) -> None:
         base = self.pieces[surface.piece]
-        world = _ROT[base.q] @ pos + np.array([base.x, base.y])
+        world = QUARTER_TURNS[base.q] @ pos + np.array([base.x, base.y])
         yaw = (base.yaw_deg + jitter) % 360.0
         self.placed.append(SmallPlaced(category, asset, variant, float(world[0]), float(world[1]),
                                        float(base.z + surface.rec.height), yaw, surface.piece, surface.index))
@@ -205,10 +205,6 @@ class SmallObjectPlacer:
 def _yaw_matrix(deg: float) -> np.ndarray:
     a = np.radians(deg)
     return np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
-
-
-def _boxes_overlap(a: np.ndarray, b: np.ndarray) -> bool:
-    return bool(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3])
 
 
 def place_small_objects(pieces: list[Placed], catalog: Catalog, rng: np.random.Generator, *,

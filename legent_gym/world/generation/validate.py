@@ -16,16 +16,20 @@ from itertools import combinations
 import numpy as np
 
 from legent_gym.world.assets import registry
-from legent_gym.world.navigation import (
-    NavGrid,
+from legent_gym.world.geometry import (
+    bounding_box,
+    boxes_overlap,
     door_keepout_squares,
     is_floor_furniture,
     object_footprint,
+    penetration,
+    points_in_polygon,
+    points_in_rect,
     rect_corners,
-    wall_frame,
-    wall_solid_spans,
+    wall_boxes,
     yaw_of,
 )
+from legent_gym.world.navigation import NavGrid
 from legent_gym.world.scene import ObjectInstance, Scene
 
 #: Penetration (metres) tolerated before two shapes count as overlapping.
@@ -94,7 +98,7 @@ def check_rooms_reachable(scene: Scene, nav: NavGrid, component: int) -> list[st
     out = []
     for room in scene.rooms:
         mask = np.zeros(nav.shape, dtype=bool)
-        nav._raster.fill_polygon(mask, np.asarray(room.polygon))
+        nav.raster.fill_polygon(mask, np.asarray(room.polygon))
         if not (mask & (nav.labels == component)).any():
             out.append(f"room {room.id} has no walkable floor reachable from the agent spawn")
     return out
@@ -139,75 +143,35 @@ def find_receptacle(scene: Scene, support: ObjectInstance, obj: ObjectInstance,
         c, h = np.asarray(rec.center) * s[:2], np.asarray(rec.half_size) * s[:2]
         corners = rect_corners(support.position, (c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1]), yaw_of(support))
         centre = footprint.mean(axis=0) if footprint is not None else np.asarray(obj.position[:2])
-        if _points_in_rect(centre[None, :], corners, TOLERANCE).all():
+        if points_in_rect(centre[None, :], corners, TOLERANCE).all():
             return k, corners
         best = best or (k, corners)
     return best
 
 
 # ---------------------------------------------------------------------------------------
-# Overlaps (separating-axis test on rectangles given by 4 corners)
-
-
-def penetration(a: np.ndarray, b: np.ndarray) -> float:
-    """How deep two convex polygons overlap (<= 0: apart or touching)."""
-    depth = np.inf
-    for poly in (a, b):
-        edges = np.roll(poly, -1, axis=0) - poly
-        for e in edges[:2]:
-            n = np.array([-e[1], e[0]])
-            norm = float(np.hypot(*n))
-            if norm < 1e-12:
-                continue
-            n /= norm
-            pa, pb = a @ n, b @ n
-            depth = min(depth, min(pa.max() - pb.min(), pb.max() - pa.min()))
-            if depth <= 0:
-                return float(depth)
-    return float(depth)
-
-
-def _aabb(c: np.ndarray) -> np.ndarray:
-    return np.concatenate([c.min(axis=0), c.max(axis=0)])
-
-
-def _aabb_touch(a: np.ndarray, b: np.ndarray) -> bool:
-    return bool(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3])
+# Overlaps (separating-axis test on rectangles given by their corners)
 
 
 def check_furniture_overlaps(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
     floor = [o.id for o in scene.objects if is_floor_furniture(o) and o.id in feet]
-    boxes = {i: _aabb(feet[i]) for i in floor}
+    boxes = {i: bounding_box(feet[i]) for i in floor}
     out = []
     for i, j in combinations(floor, 2):
-        if _aabb_touch(boxes[i], boxes[j]) and penetration(feet[i], feet[j]) > TOLERANCE:
+        if boxes_overlap(boxes[i], boxes[j]) and penetration(feet[i], feet[j]) > TOLERANCE:
             out.append(f"{names[i]} and {names[j]} overlap")
     return out
 
 
-def wall_boxes(scene: Scene) -> list[tuple[str, np.ndarray]]:
-    """Wall pieces between door openings (of any door: furniture in a doorway is a door
-    clearance problem), as corner arrays."""
-    out = []
-    for wall in scene.walls:
-        start, u, n, length = wall_frame(wall)
-        t = wall.thickness / 2
-        doors = [d for d in scene.doors if d.wall == wall.id]
-        for a, b in wall_solid_spans(wall, doors, cut_closed=True):
-            p0, p1 = start + u * a, start + u * b
-            out.append((wall.id, np.array([p0 - n * t, p1 - n * t, p1 + n * t, p0 + n * t])))
-    return out
-
-
 def check_furniture_walls(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
-    walls = [(wid, c, _aabb(c)) for wid, c in wall_boxes(scene)]
+    walls = [(wid, c, bounding_box(c)) for wid, c in wall_boxes(scene)]
     out = []
     for obj in scene.objects:
         if not is_floor_furniture(obj) or obj.id not in feet:
             continue
-        box = _aabb(feet[obj.id])
+        box = bounding_box(feet[obj.id])
         for wid, corners, wbox in walls:
-            if _aabb_touch(box, wbox) and penetration(feet[obj.id], corners) > TOLERANCE:
+            if boxes_overlap(box, wbox) and penetration(feet[obj.id], corners) > TOLERANCE:
                 out.append(f"{names[obj.id]} goes into wall {wid}")
                 break
     return out
@@ -221,10 +185,9 @@ def check_door_clearance(scene: Scene, feet: dict[int, np.ndarray], names: dict[
         wall = walls.get(door.wall)
         if wall is None:
             continue
-        depth = door.width if door.leaf else min(door.width, 0.9)
-        for sq in door_keepout_squares(wall, door, depth):
+        for sq in door_keepout_squares(wall, door):
             for i in floor:
-                if _aabb_touch(_aabb(sq), _aabb(feet[i])) and penetration(sq, feet[i]) > TOLERANCE:
+                if boxes_overlap(bounding_box(sq), bounding_box(feet[i])) and penetration(sq, feet[i]) > TOLERANCE:
                     out.append(f"{names[i]} blocks the space in front of {door.id}")
     return out
 
@@ -238,7 +201,7 @@ def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, s
         if obj.on is None or obj.on not in ids or obj.id not in feet:
             continue
         found = find_receptacle(scene, scene.object(obj.on), obj, feet[obj.id])
-        if found is None or not _points_in_rect(feet[obj.id], found[1], TOLERANCE).all():
+        if found is None or not points_in_rect(feet[obj.id], found[1], TOLERANCE).all():
             out.append(f"{names[obj.id]} is not inside a receptacle of {names[obj.on]}")
             continue
         by_surface.setdefault((obj.on, found[0]), []).append(obj.id)
@@ -258,23 +221,7 @@ def check_inside_house(scene: Scene, feet: dict[int, np.ndarray], names: dict[in
         shrunk = feet[obj.id] + (feet[obj.id].mean(axis=0) - feet[obj.id]) * 1e-3
         inside = np.zeros(4, dtype=bool)
         for poly in polys:
-            inside |= _points_in_polygon(shrunk, poly)
+            inside |= points_in_polygon(shrunk, poly)
         if not inside.all():
             out.append(f"{names[obj.id]} is not inside the house")
     return out
-
-
-def _points_in_rect(pts: np.ndarray, corners: np.ndarray, tol: float) -> np.ndarray:
-    o = corners[0]
-    e0, e1 = corners[1] - o, corners[3] - o
-    l0, l1 = float(np.hypot(*e0)), float(np.hypot(*e1))
-    rel = pts - o
-    s, t = rel @ e0 / l0, rel @ e1 / l1
-    return (s >= -tol) & (s <= l0 + tol) & (t >= -tol) & (t <= l1 + tol)
-
-
-def _points_in_polygon(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
-    from legent_gym.world.generation.furnish import points_in_polygon
-
-    return points_in_polygon(pts, poly)
-

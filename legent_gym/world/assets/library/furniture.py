@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from legent_gym.world.assets import registry
-from legent_gym.world.assets.library._common import (
+from legent_gym.world.assets.library.common import (
     APPLIANCES,
     BEDDING,
     CERAMICS,

@@ -1,9 +1,14 @@
-"""Looks of a generated house: floor and wall surfaces per room type, and ceiling lights."""
+"""Looks of a generated house: floor and wall surfaces per room type, and ceiling lights.
+
+(How a built world is drawn, its style preset and domain randomisation, is
+:mod:`legent_gym.world.styles`.)
+"""
 
 from __future__ import annotations
 
 import numpy as np
 
+from legent_gym.world.geometry import points_in_polygon, polygon_centroid
 from legent_gym.world.scene import Light, Surface
 
 #: Room type -> floor (material, rgb) choices.
@@ -55,14 +60,8 @@ def ceiling_light(point: tuple[float, float], wall_height: float) -> Light:
 def light_point(polygon: list[tuple[float, float]]) -> tuple[float, float]:
     """A point inside the room for its light: the centroid, or for an L-shape whose centroid
     falls outside, the centre of its larger arm."""
-    from legent_gym.world.generation.furnish import points_in_polygon
-
     p = np.asarray(polygon, dtype=np.float64)
-    x, y = p[:, 0], p[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    cross = x * yn - xn * y
-    area = cross.sum() / 2
-    c = np.array([((x + xn) * cross).sum(), ((y + yn) * cross).sum()]) / (6 * area)
+    c = polygon_centroid(p)
     if points_in_polygon(c[None, :], p)[0]:
         return float(c[0]), float(c[1])
     # Fall back to the midpoint between the two vertices nearest the centroid (inside an L).
