@@ -38,7 +38,7 @@ from baselines.reproduce_table import (  # noqa: E402
 )
 from baselines.vla.checkpoint import load_model  # noqa: E402
 
-SCRIPT = Path(__file__).resolve().parents[1] / "baselines" / "reproduce_table.py"
+SCRIPT = Path(__file__).resolve().parents[2] / "baselines" / "reproduce_table.py"
 OUR_ROWS = 6  # random, Sep small, Sep large, Joint, Sep large + DAgger, expert
 
 
