@@ -545,7 +545,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--dagger", action="store_true",
                    help="add a row: one DAgger round on the large Sep models (rollouts labelled by the expert)")
     p.add_argument("--channels", help="the image encoder's widths, comma-separated (default: the scale's, "
-                                      "16,32,64,128; session 8 measured 32,64,128,256)")
+                                      "16,32,64,128; docs/results.md's best table: 32,64,128,256)")
     p.add_argument("--epochs-large", type=int, help="epochs on the large sets (default: the scale's)")
     p.add_argument("--film", action="store_true", help="condition the image encoder on the instruction (FiLM)")
     p.add_argument("--paper-where-is", action="store_true",
