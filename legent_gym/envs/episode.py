@@ -230,6 +230,12 @@ class Episode:
             raise RuntimeError("no episode has begun: call reset() first")
         return self.ctx
 
+    def require_goal(self) -> TaskInstance:
+        """The current goal; raises RuntimeError before the first :meth:`begin`."""
+        if self.goal is None:
+            raise RuntimeError("no episode has begun: call reset() first")
+        return self.goal
+
     # -- 1. house draw, set-up and goal --------------------------------------------------------
     def begin(self, rng: np.random.Generator, scene: Scene | None = None, *, new_house: bool = False) -> int:
         """Start an episode: a house (``scene`` if given; else the current house while it
@@ -259,8 +265,8 @@ class Episode:
                 house.episodes = 0
             drawn_spawns = bool(house.episodes) or house.draw.spawns_drawn
             for agent, user in self._spawns(house, rng):
-                self._enter(house, agent, user)
-                self.goal = self.task.sample(self.ctx, rng)
+                ctx = self._enter(house, agent, user)
+                self.goal = self.task.sample(ctx, rng)
                 if self.goal is not None:
                     house.episodes += 1
                     self.house_seed = house.seed
@@ -307,7 +313,7 @@ class Episode:
             except AttemptFailed:
                 return
 
-    def _enter(self, house: House, agent: Spawn, user: Spawn | None) -> None:
+    def _enter(self, house: House, agent: Spawn, user: Spawn | None) -> TaskContext:
         """Restore ``house`` as built and put the bodies at these spawns."""
         world = house.world
         if self._renderer is not None and self._renderer_world is not world:
@@ -321,7 +327,7 @@ class Episode:
             world.set_body_pose("user", *user.position, user.yaw)
         mujoco.mj_forward(world.model, world.data)
         self.house = house
-        self.set_up(scene, world, house.nav)
+        return self.set_up(scene, world, house.nav)
 
     def set_up(self, scene: Scene, world: World | None = None, nav: NavGrid | None = None) -> TaskContext:
         """Build ``scene`` (or take its built ``world`` and ``nav``) and put the agent and the
@@ -376,12 +382,12 @@ class Episode:
     # -- 3. judging ------------------------------------------------------------------------------
     def judge(self) -> Evaluation:
         """Success and the end of the episode, as the task judges them now (cheap)."""
-        return self.goal.evaluate(self.require())
+        return self.require_goal().evaluate(self.require())
 
     def distance_left(self) -> float:
         """Geodesic metres to the current sub-goal (dearer than :meth:`judge`: a goal that
         moves costs a search of the house)."""
-        return self.goal.distance_left(self.require())
+        return self.require_goal().distance_left(self.require())
 
     @property
     def ended(self) -> bool:

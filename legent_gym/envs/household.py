@@ -163,10 +163,10 @@ class HouseholdEnv(gym.Env):
         self.render_mode, self.render_size = render_mode, render_size
         build_options = BuildOptions(agent=BodyOptions(agent_radius, agent_height, camera_height,
                                                        float(fovy or preset["fovy"])))
-        houses = HouseSource(layout, scene=load_scene(scene) if isinstance(scene, str | Path) else scene,
+        source = HouseSource(layout, scene=load_scene(scene) if isinstance(scene, str | Path) else scene,
                              house_seed=house_seed, house_pool=house_pool, houses=houses)
         #: The episode engine: house, bodies, goal, views (see :mod:`legent_gym.envs.episode`).
-        self.episode = Episode(make_task(task, **(task_options or {})), houses, build_options,
+        self.episode = Episode(make_task(task, **(task_options or {})), source, build_options,
                                Observing(self.width, self.height, depth, segmentation), reach=reach,
                                limits=ActionLimits(), episodes_per_house=episodes_per_house)
 
@@ -203,7 +203,7 @@ class HouseholdEnv(gym.Env):
         self._n_actions = 0
         evaluation = self.episode.judge()
         self._last_distance = distance = self.distance_left()
-        self._message = self.episode.goal.instruction
+        self._message = self.episode.require_goal().instruction
         info = self._info(evaluation, distance)
         info["attempts"] = attempts
         return self._observation(), info
@@ -249,7 +249,7 @@ class HouseholdEnv(gym.Env):
     # -- observations and info ----------------------------------------------------------------
     def _observation(self) -> dict[str, Any]:
         views = self.episode.views("agent")
-        obs = {"rgb": views.pop("rgb"), "instruction": self.episode.goal.instruction, "message": self._message}
+        obs = {"rgb": views.pop("rgb"), "instruction": self.episode.require_goal().instruction, "message": self._message}
         obs.update(views)
         return obs
 
@@ -260,7 +260,7 @@ class HouseholdEnv(gym.Env):
             "agent_pose": (a.x, a.y, a.yaw, a.pitch),
             "user_pose": (u.x, u.y, u.yaw, u.pitch),
             "held": a.held,
-            "task": {"name": self.task_name, **self.episode.goal.describe()},
+            "task": {"name": self.task_name, **self.episode.require_goal().describe()},
             "success": bool(evaluation.success),
             "distance_to_goal": distance,
             "house_seed": self.episode.house_seed,
