@@ -24,7 +24,7 @@ def views_equal(a: dict, b: dict) -> bool:
 
 def test_episodes_per_house_keeps_the_house_and_draws_new_spawns_and_goals():
     env = make("Legent/ComeHere-TwoRoom-v0", episodes_per_house=4)
-    infos = [env.reset(seed=5)[1]] + [env.reset()[1] for _ in range(4)]
+    infos = [env.reset(seed=8)[1]] + [env.reset()[1] for _ in range(4)]  # seed 8: the first of its block
     episode: Episode = env.unwrapped.episode
     seeds = [i["house_seed"] for i in infos]
     assert seeds[0] == seeds[1] == seeds[2] == seeds[3] != seeds[4]  # 4 episodes, then a new house
@@ -50,6 +50,18 @@ def test_same_seed_same_episodes_whatever_came_before():
         assert views_equal(obs_a, obs_b)
         assert obs_a["instruction"] == obs_b["instruction"]
         assert info_a["agent_pose"] == info_b["agent_pose"] and info_a["task"] == info_b["task"]
+
+
+def test_seeds_of_one_block_share_a_house_and_depend_on_nothing_else():
+    env = make(episodes_per_house=4)
+    _, first = env.reset(seed=4)
+    obs_5, fifth = env.reset(seed=5)
+    assert first["house_seed"] == fifth["house_seed"] and first["agent_pose"] != fifth["agent_pose"]
+    alone = make(episodes_per_house=4)
+    obs, info = alone.reset(seed=5)  # seed 5 with nothing before it
+    assert views_equal(obs, obs_5) and info["agent_pose"] == fifth["agent_pose"] and info["task"] == fifth["task"]
+    _, other = env.reset(seed=9)  # another block, another house
+    assert other["house_seed"] != first["house_seed"]
 
 
 def _play(env, actions):

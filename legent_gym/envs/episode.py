@@ -36,9 +36,10 @@ has them, doors and drawers as built, nothing held, nothing said. A house is reu
   :data:`HOUSE_CACHE_SIZE` built houses are kept.
 
 A house from a ``houses`` folder is written without a task in mind, so its every episode
-draws spawns under the task's conditions. A reset with a seed starts a new house, so the
-same seed gives the same episode whatever came before, and the episodes that follow it
-are the same for the same ``episodes_per_house``.
+draws spawns under the task's conditions. A front end that wants each seeded episode
+to depend on its seed alone passes :meth:`Episode.begin` a ``house_rng`` and the
+episode's index in its house (``HouseholdEnv`` does: seeds ``s`` with one ``s // K``
+share a house).
 """
 
 from __future__ import annotations
@@ -237,14 +238,18 @@ class Episode:
         return self.goal
 
     # -- 1. house draw, set-up and goal --------------------------------------------------------
-    def begin(self, rng: np.random.Generator, scene: Scene | None = None, *, new_house: bool = False) -> int:
+    def begin(self, rng: np.random.Generator, scene: Scene | None = None, *,
+              house_rng: np.random.Generator | None = None, index_in_house: int = 0) -> int:
         """Start an episode: a house (``scene`` if given; else the current house while it
-        has episodes left of ``episodes_per_house`` and ``new_house`` is false; else one
-        from :attr:`houses`), set up or restored, and a goal in it, drawing another house
-        while one offers none. Returns the number of houses tried. Every draw comes from
-        ``rng``."""
+        has episodes left of ``episodes_per_house``; else one from :attr:`houses`), set up
+        or restored, and a goal in it, drawing another house while one offers none.
+        Returns the number of houses tried. Every draw comes from ``rng``, except, when
+        ``house_rng`` is given, the house itself: then a house is drawn from ``house_rng``
+        (a kept one is taken as it is) and this is its episode ``index_in_house`` (0: at
+        the scene's spawns), whatever came before."""
         failure = None
-        current = None if new_house or scene is not None else self.house
+        current = None if house_rng is not None or scene is not None else self.house
+        house_rng = rng if house_rng is None else house_rng
         for attempt in range(HOUSE_RETRIES):
             if scene is not None:
                 house = self._build(HouseDraw(("given", id(scene)), None, lambda: scene), keep=False)
@@ -252,7 +257,7 @@ class Episode:
                 house = current
             else:
                 try:
-                    draw = self.houses.draw(rng, self.task)
+                    draw = self.houses.draw(house_rng, self.task)
                     house = self._kept_or_built(draw)
                 except GenerationError as err:
                     # A task's condition this layout cannot meet (a kitchen counter asked of a
@@ -262,7 +267,7 @@ class Episode:
                     failure = err
                     current = None
                     continue
-                house.episodes = 0
+                house.episodes = index_in_house if attempt == 0 else 0
             drawn_spawns = bool(house.episodes) or house.draw.spawns_drawn
             for agent, user in self._spawns(house, rng):
                 ctx = self._enter(house, agent, user)

@@ -37,6 +37,9 @@ CAMERA_PRESETS = {
 }
 #: The longest instruction or message an observation holds (characters).
 MAX_TEXT = 500
+#: Mixed into the seed of the generator that draws a block of episodes' house, so that it
+#: is not the stream of any episode's own seed.
+HOUSE_STREAM = 0x4E05E
 
 
 class HouseholdEnv(gym.Env):
@@ -93,7 +96,9 @@ class HouseholdEnv(gym.Env):
     ``episodes_per_house`` > 1 keeps one for several episodes (later ones at new spawns)
     or the house is fixed; a kept house starts every episode as built: small objects where
     the house has them, doors and drawers as built, nothing held. A reset with a seed
-    always starts a new house.
+    draws the house of its block of ``episodes_per_house`` seeds (seeds ``s`` with the same
+    ``s // K`` share one house, a kept one if it was built before), so each episode depends
+    on its seed and ``K`` alone; resets without a seed go on in the current house.
 
     ## Episode End
     Terminates on success, on ``finish()``, and (WhereIs) on any speech. Truncates after
@@ -198,8 +203,15 @@ class HouseholdEnv(gym.Env):
         scene = options.get("scene")
         if scene is not None and not isinstance(scene, Scene):
             scene = load_scene(scene)
-        # A seeded reset starts a new house: the same seed, the same episode, whatever came before.
-        attempts = self.episode.begin(self.np_random, scene, new_house=seed is not None)
+        house_rng, index = None, 0
+        if seed is not None:
+            # The same seed, the same episode, whatever came before: with one house for K
+            # episodes, seeds s and s' share a house when s // K == s' // K, and s is
+            # episode s % K in it (0: at the house's own spawns).
+            block, index = divmod(int(seed), self.episode.episodes_per_house)
+            house_rng = (self.np_random if self.episode.episodes_per_house == 1
+                         else np.random.default_rng([block, self.episode.episodes_per_house, HOUSE_STREAM]))
+        attempts = self.episode.begin(self.np_random, scene, house_rng=house_rng, index_in_house=index)
         self._n_actions = 0
         evaluation = self.episode.judge()
         self._last_distance = distance = self.distance_left()
