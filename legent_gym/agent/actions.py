@@ -47,6 +47,7 @@ import operator
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import SupportsIndex, cast, overload
 
 __all__ = [
     "ACTION_TYPES",
@@ -97,7 +98,8 @@ def _object_id(value: object, what: str) -> int:
     if isinstance(value, bool):
         raise TypeError(f"{what} must be an integer object id, got {value!r}")
     try:
-        result = operator.index(value)
+        # anything without __index__ raises the TypeError handled here
+        result = operator.index(cast(SupportsIndex, value))
     except TypeError:
         raise TypeError(f"{what} must be an integer object id, got {value!r}") from None
     if result < 0:
@@ -824,6 +826,18 @@ def _clip_speech(action: Speak, limits: ActionLimits) -> tuple[Action, str | Non
             f"speech of {n} characters truncated to {limits.max_speech_chars}")
 
 
+@overload
+def clip_action(
+    action: Speak, limits: ActionLimits, *, pitch: float | None = None
+) -> tuple[Speak, str | None]: ...
+
+
+@overload
+def clip_action(
+    action: Action, limits: ActionLimits, *, pitch: float | None = None
+) -> tuple[Action, str | None]: ...
+
+
 def clip_action(
     action: Action, limits: ActionLimits, *, pitch: float | None = None
 ) -> tuple[Action, str | None]:
@@ -835,16 +849,16 @@ def clip_action(
     >>> clip_action(MoveForward(3.5), ActionLimits())
     (MoveForward(distance=2.0), 'move_forward(3.5) clipped to 2.0 m')
     """
-    kind = type(action)  # exact types, as everywhere in this module
-    if kind is MoveForward:
+    # exact types, as everywhere in this module
+    if type(action) is MoveForward:
         return _clip_move(action, limits)
-    if kind is RotateRight:
+    if type(action) is RotateRight:
         return _clip_turn(action, limits)
-    if kind is RotateDown:
+    if type(action) is RotateDown:
         return _clip_tilt(action, limits, pitch)
-    if kind is Speak:
+    if type(action) is Speak:
         return _clip_speech(action, limits)
-    if kind not in _NAMES:
+    if type(action) not in _NAMES:
         raise TypeError(f"not an action: {action!r}")
     return action, None
 

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import mujoco
 import numpy as np
@@ -57,6 +58,13 @@ class BodyState:
 
 def _names(world: World, object_id: int) -> str:
     return f"{object_id} ({world.assets[object_id].names[0]})"
+
+
+def _hit_object(hit: RayHit) -> int:
+    """The scene object a resolved hit names (one that names no door always names one)."""
+    if hit.object_id is None:
+        raise ValueError("the hit names neither a scene object nor a door")
+    return hit.object_id
 
 
 class Body:
@@ -181,9 +189,11 @@ class Body:
         if self._clearance_map is None:
             z_range = self.collision_band
             key = ("clearance", z_range)
-            found = self.world.derived.get(key)
+            # world.derived holds what each module put there: under this key, a ClearanceMap
+            found = cast("ClearanceMap | None", self.world.derived.get(key))
             if found is None:
-                found = self.world.derived[key] = ClearanceMap(self.world, z_range)
+                found = ClearanceMap(self.world, z_range)
+                self.world.derived[key] = found
             self._clearance_map = found
         return self._clearance_map
 
@@ -235,33 +245,35 @@ class Body:
             return f"out of reach ({d:.2f} m away, reach {self.reach:.2f} m)"
         return None
 
-    def _resolve(self, target) -> tuple[RayHit | None, str | None]:
-        """The hit to act on: what the image centre shows, or an addressed target."""
+    def _resolve(self, target: int | str | None) -> RayHit | str:
+        """The hit to act on (what the image centre shows, or an addressed target; it names a
+        scene object or a door), or a sentence saying why there is none within reach."""
         self._flush()  # interactions see the world as it is after the moves before them
         if target is None:
-            hit = self.look()
-            if hit is None or (hit.object_id is None and hit.door_id is None):
-                return None, "nothing to interact with at the image centre"
-            return hit, self._in_reach(hit)
-        if isinstance(target, str):
+            looked = self.look()
+            if looked is None or (looked.object_id is None and looked.door_id is None):
+                return "nothing to interact with at the image centre"
+            hit = looked
+        elif isinstance(target, str):
             if target not in self.world.door_joint:
-                return None, f"no door with id {target!r}"
+                return f"no door with id {target!r}"
             centre = self.world.data.xipos[self.world.door_body[target]]
             hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre.copy(), door_id=target)
-            return hit, self._in_reach(hit)
-        if target not in self.world.object_body:
-            return None, f"no object with id {target}"
-        centre = self.world.object_centre(target)
-        hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre, object_id=int(target))
-        return hit, self._in_reach(hit)
+        else:
+            if target not in self.world.object_body:
+                return f"no object with id {target}"
+            centre = self.world.object_centre(target)
+            hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre, object_id=int(target))
+        problem = self._in_reach(hit)
+        return problem if problem else hit
 
     # -- interactions ----------------------------------------------------------------------
     def grab(self, target: int | None = None) -> Outcome:
         if self.state.held is not None:
             return Outcome(False, f"hands are full: holding {_names(self.world, self.state.held)}")
-        hit, problem = self._resolve(target)
-        if problem:
-            return Outcome(False, problem)
+        hit = self._resolve(target)
+        if isinstance(hit, str):
+            return Outcome(False, hit)
         if hit.object_id is None:
             return Outcome(False, "that is a door: it cannot be picked up")
         if self.world.scene.object(hit.object_id).kind != "interactable":
@@ -276,9 +288,9 @@ class Body:
         held = self.state.held
         if held is None:
             return Outcome(False, "not holding anything")
-        hit, problem = self._resolve(target)
-        if problem:
-            return Outcome(False, problem)
+        hit = self._resolve(target)
+        if isinstance(hit, str):
+            return Outcome(False, hit)
         if hit.object_id is None:
             return Outcome(False, "there is no surface to put things on at the image centre")
         spot = self.free_spot(hit.object_id, hit.point if target is None else None, held)
@@ -297,14 +309,14 @@ class Body:
         """LEGENT's generic action: put when holding, else grab, else open or close."""
         if self.state.held is not None:
             return self.put(target if isinstance(target, int) else None)
-        hit, problem = self._resolve(target)
-        if problem:
-            return Outcome(False, problem)
+        hit = self._resolve(target)
+        if isinstance(hit, str):
+            return Outcome(False, hit)
         if hit.object_id is not None and self.world.scene.object(hit.object_id).kind == "interactable":
             return self.grab(hit.object_id)
         joint = self._joint_for(hit)
         if joint is None:
-            return Outcome(False, f"object {_names(self.world, hit.object_id)} cannot be picked up or opened")
+            return Outcome(False, f"object {_names(self.world, _hit_object(hit))} cannot be picked up or opened")
         lo, hi = self.world.model.jnt_range[joint]
         value = self.world.data.qpos[self.world.model.jnt_qposadr[joint]]
         is_open = abs(value) > 0.5 * max(abs(lo), abs(hi))
@@ -315,7 +327,7 @@ class Body:
         """The joint an open/close acts on: the door's hinge, or the looked-at furniture part."""
         if hit.door_id is not None:
             return self.world.door_joint.get(hit.door_id)
-        joints = self.world.object_joints.get(hit.object_id, {})
+        joints = self.world.object_joints.get(_hit_object(hit), {})
         if not joints:
             return None
         model = self.world.model
@@ -333,12 +345,12 @@ class Body:
                 return jid
         return next(iter(joints.values()))
 
-    def _articulate(self, target, opening: bool) -> Outcome:
-        hit, problem = self._resolve(target)
-        if problem:
-            return Outcome(False, problem)
+    def _articulate(self, target: int | str | None, opening: bool) -> Outcome:
+        hit = self._resolve(target)
+        if isinstance(hit, str):
+            return Outcome(False, hit)
         joint = self._joint_for(hit, opening)
-        what = f"door {hit.door_id!r}" if hit.door_id else f"object {_names(self.world, hit.object_id)}"
+        what = f"door {hit.door_id!r}" if hit.door_id else f"object {_names(self.world, _hit_object(hit))}"
         if joint is None:
             return Outcome(False, f"{what} has nothing to open or close")
         model, data = self.world.model, self.world.data
@@ -357,6 +369,8 @@ class Body:
 
     def _carry(self) -> None:
         held = self.state.held
+        if held is None:
+            raise RuntimeError(f"{self.name} carries nothing: it holds no object")
         model, data = self.world.model, self.world.data
         yaw = math.radians(self.state.yaw)
         lo, hi = self.world.assets[held].bounds()

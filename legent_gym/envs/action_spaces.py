@@ -36,8 +36,8 @@ from __future__ import annotations
 
 import math
 import string
-from collections.abc import Iterable, Mapping
-from typing import Any
+from collections.abc import Callable, Iterable, Mapping
+from typing import Any, cast
 
 import numpy as np
 from gymnasium import spaces
@@ -102,7 +102,7 @@ DICT_KEYS: tuple[str, ...] = (
 )
 """The dict space's keys, in the order a step executes them."""
 
-INTERACTIONS: tuple[type | None, ...] = (None, Interact, Grab, Put, Open, Close)
+INTERACTIONS: tuple[type[Interact | Grab | Put | Open | Close] | None, ...] = (None, Interact, Grab, Put, Open, Close)
 """``interact`` slot value -> primitive (index 0: no interaction)."""
 
 _SPEECH_SET = frozenset(SPEECH_CHARSET)
@@ -118,7 +118,6 @@ _SLOT: dict[type, str] = {
     Speak: "speak",
     Finish: "finish",
 }
-_NUMERIC_KEYS = ("move_forward", "rotate_right", "rotate_down")
 
 
 # --------------------------------------------------------------------------------------
@@ -213,15 +212,16 @@ def dict_to_actions(action_dict: Mapping[str, Any]) -> Step:
     if unknown:
         raise ValueError(f"unknown action keys {unknown}; expected {list(DICT_KEYS)}")
     step: list[Action] = []
-    numeric = {"move_forward": MoveForward, "rotate_right": RotateRight, "rotate_down": RotateDown}
+    numeric: dict[str, Callable[[float], Action]] = {
+        "move_forward": MoveForward, "rotate_right": RotateRight, "rotate_down": RotateDown}
     for key, cls in numeric.items():
         if key in action_dict:
             value = float(_scalar(action_dict[key], key))
             if value != 0.0:  # also drops -0.0
                 step.append(cls(value))
-    code = _code(action_dict.get("interact", 0), "interact", len(INTERACTIONS))
-    if code:
-        step.append(INTERACTIONS[code]())
+    interaction = INTERACTIONS[_code(action_dict.get("interact", 0), "interact", len(INTERACTIONS))]
+    if interaction is not None:  # code 0: no interaction
+        step.append(interaction())
     speech = action_dict.get("speak", "")
     if not isinstance(speech, str):
         raise ValueError(f"'speak' must be a str, got {type(speech).__name__}")
@@ -331,19 +331,20 @@ def actions_to_dict(
     space = continuous_action_space(limits) if limits is not None else None
     out = noop_dict()
     for slot, action in _check_order(step):
-        if slot in _NUMERIC_KEYS:
+        # each primitive type has exactly one slot (_check_order looks it up by exact type)
+        if isinstance(action, (MoveForward, RotateRight, RotateDown)):  # the numeric slots
             value = action.distance if isinstance(action, MoveForward) else action.degrees
             if isinstance(action, MoveForward) and value < 0:
                 raise ValueError(
                     f"{format_action(action)} cannot be represented: no walking backwards")
             stored = _float32(value, action, strict=strict)
             if space is not None:
-                _check_bound(stored, space[slot], action)
+                _check_bound(stored, cast(spaces.Box, space[slot]), action)
             out[slot] = stored
         elif slot == "interact":
             out[slot] = np.int64(_interaction_code(action))
-        elif slot == "speak":
-            _check_speech(action, space["speak"] if space is not None else None)
+        elif isinstance(action, Speak):  # slot "speak"
+            _check_speech(action, cast(spaces.Text, space["speak"]) if space is not None else None)
             out[slot] = action.text
         else:  # finish
             out[slot] = np.int64(1)

@@ -15,7 +15,20 @@ space (:meth:`Expert.action`: action code for ``action_type="text"``, a dict for
 
 from __future__ import annotations
 
-from legent_gym.agent.actions import Close, Finish, Grab, Interact, Open, Put, Speak, format_actions
+from collections.abc import Callable
+from typing import cast
+
+from legent_gym.agent.actions import (
+    Action,
+    Close,
+    Finish,
+    Grab,
+    Interact,
+    Open,
+    Put,
+    Speak,
+    format_actions,
+)
 from legent_gym.envs.action_spaces import actions_to_dict
 from legent_gym.experts.oracle import Oracle
 from legent_gym.experts.planners import Planner, PlanningError
@@ -24,13 +37,15 @@ from legent_gym.experts.templates import task_program
 
 __all__ = ["Expert", "ProgramExecutor", "PlanningError"]
 
-_ONE_SHOT_ACTION = {"interact": Interact, "grab": Grab, "put": Put, "open": Open, "close": Close}
+# Each constructor checks its target itself (Grab and Put refuse a door id: TypeError).
+_ONE_SHOT_ACTION = cast(dict[str, Callable[[int | str | None], Action]],
+                        {"interact": Interact, "grab": Grab, "put": Put, "open": Open, "close": Close})
 
 
-def one_shot(instruction: Instruction):
+def one_shot(instruction: Instruction) -> Action:
     """The primitive of an instruction that acts once."""
     if instruction.name == "speak":
-        return Speak(instruction.arg)
+        return Speak(instruction.text_arg())
     if instruction.name == "finish":
         return Finish()
     return _ONE_SHOT_ACTION[instruction.name](instruction.arg)
@@ -58,7 +73,7 @@ def next_step(planner: Planner, program: Program, pc: int) -> tuple[tuple, int]:
         if ins.name in ONE_SHOT:
             return (one_shot(ins),), pc + 1
         if ins.name == "target":
-            step, aimed = planner.target(ins.arg)
+            step, aimed = planner.target(ins.object_arg())
             if step is None:
                 pc += 1
                 continue
@@ -68,7 +83,7 @@ def next_step(planner: Planner, program: Program, pc: int) -> tuple[tuple, int]:
         if ins.name == "goto_user":
             step = planner.goto_user()
         elif ins.name == "goto":
-            step = planner.goto(ins.arg, then_target=_targets(program, pc + 1, ins.arg))
+            step = planner.goto(ins.object_arg(), then_target=_targets(program, pc + 1, ins.arg))
         else:
             step = getattr(planner, ins.name)(ins.arg)
         if step is None:
@@ -80,6 +95,10 @@ def next_step(planner: Planner, program: Program, pc: int) -> tuple[tuple, int]:
 
 class _ActionSpaceMixin:
     oracle: Oracle
+
+    def step(self) -> tuple:
+        """The next action as a step of primitives (each subclass says how)."""
+        raise NotImplementedError
 
     def action(self):
         """The next action in the env's own action space."""

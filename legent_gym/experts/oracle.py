@@ -135,7 +135,7 @@ class Oracle:
     def user_position(self) -> np.ndarray:
         return self._ctx.user.position
 
-    def horizontal_distance(self, point: Sequence[float]) -> float:
+    def horizontal_distance(self, point: Sequence[float] | np.ndarray) -> float:
         return self._ctx.agent.horizontal_distance(point)
 
     # -- objects ---------------------------------------------------------------------------
@@ -165,7 +165,10 @@ class Oracle:
         # Free spots change only when something is grabbed or put: keyed by what is held.
         key = (self.episode_key, host, self.held)
         if getattr(self, "_spots_key", None) != key:
-            self._spots = feasibility.put_spots(self._ctx, host, self.held)
+            held = self.held
+            if held is None:
+                raise RuntimeError("free spots are looked for only while holding something")
+            self._spots = feasibility.put_spots(self._ctx, host, held)
             self._spots_key = key
         return self._spots
 
@@ -201,8 +204,9 @@ class Oracle:
         held = ctx.agent.state.held
         if target is None or (held == target and self.task_name == "BringMe"):
             return self._user_view()
-        if held == target and getattr(goal, "receptacle", None) is not None:
-            target = goal.receptacle
+        receptacle = getattr(goal, "receptacle", None)
+        if held == target and receptacle is not None:
+            target = receptacle
         return self._view_of(self.object_centre(target), ctx.is_visible(ctx.agent, target))
 
     def _view_of(self, point: np.ndarray, visible: bool) -> GoalView:
@@ -241,7 +245,7 @@ class Oracle:
         return feasibility.planning_grid(self._ctx)
 
     def path_to(self, goal: Sequence[float], *, keep_clear: bool = True,
-                start: Sequence[float] | None = None) -> list[np.ndarray]:
+                start: Sequence[float] | np.ndarray | None = None) -> list[np.ndarray]:
         """The polyline to walk from the agent (or ``start``) to ``goal``, starting with the
         start point ([] if there is no path; see :func:`legent_gym.tasks.feasibility.walk_path`):
         on :meth:`planning_grid` when ``keep_clear`` and it joins the two, else on the

@@ -34,7 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight
+from legent_gym.agent.actions import Action, MoveForward, RotateDown, RotateRight
 from legent_gym.experts.oracle import Oracle, yaw_pitch_to
 from legent_gym.tasks.feasibility import ANGLE_TOLERANCE, FIND_DISTANCE
 from legent_gym.tasks.feasibility import USER_STOP as COME_HERE_STOP
@@ -49,8 +49,10 @@ SCAN_TURN = 60.0  # degrees turned right per look of a scan: the 90-degree views
 SCAN_PITCH = 20.0  # degrees down a scan looks: objects stand on furniture below the eye
 FIND_STRATEGIES = ("direct", "scan")
 
+#: A point (x, y[, z]): a sequence of floats or an array.
+Point = Sequence[float] | np.ndarray
 #: A function of a standing point (x, y) giving the (yaw, pitch) to look at from there.
-Look = Callable[[Sequence[float]], "tuple[float, float] | None"]
+Look = Callable[[Point], "tuple[float, float] | None"]
 
 
 class PlanningError(RuntimeError):
@@ -63,7 +65,7 @@ def wrap(degrees: float) -> float:
     return 180.0 if d == -180.0 else d
 
 
-def _heading(a: Sequence[float], b: Sequence[float]) -> float:
+def _heading(a: Point, b: Point) -> float:
     return math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))
 
 
@@ -149,7 +151,7 @@ class Planner:
         free = o.free_distance(pose.yaw, move)
         if free < min(move, DETOUR_STEP) - 0.01:
             return self._sidestep(goal)
-        step = [MoveForward(move)]
+        step: list[Action | None] = [MoveForward(move)]
         if free >= move - 1e-3:  # the move will end where planned: turn on from there
             rad = math.radians(pose.yaw)
             end = np.array([pose.x + math.cos(rad) * move, pose.y + math.sin(rad) * move])
@@ -189,11 +191,13 @@ class Planner:
                     best, best_left = delta, left
             if best is not None:
                 turn = self._turn(best)
+                if turn is None:  # |best| >= 15 degrees: never a tiny turn
+                    raise RuntimeError(f"a detour turn of {best} degrees came out empty")
                 self._detour = (o.episode_key, pose.yaw - turn.degrees, round(step_length, 2))
                 return (turn,)
         raise PlanningError(f"stuck at ({pose.x:.2f}, {pose.y:.2f}): every way forward is blocked")
 
-    def face(self, point: Sequence[float]) -> tuple | None:
+    def face(self, point: Point) -> tuple | None:
         """Turn (yaw and pitch) to look straight at ``point``; None if already looking."""
         o = self.oracle
         pose = o.pose
@@ -205,7 +209,7 @@ class Planner:
                           self._tilt(tilt) if abs(tilt) > ANGLE_TOLERANCE else None)
         return step or None
 
-    def _angles_to(self, eye: np.ndarray, point: Sequence[float]) -> tuple[float, float]:
+    def _angles_to(self, eye: np.ndarray, point: Point) -> tuple[float, float]:
         """(yaw, pitch) looking from ``eye`` at ``point``, the pitch within the head's range."""
         yaw, pitch = yaw_pitch_to(eye, point)
         lo, hi = self.oracle.pitch_range
@@ -257,7 +261,8 @@ class Planner:
             return o.can_put_at(object_id, hit.point)
         # A grab checks reach to the object's centre too (see feasibility.aims).
         centre = o.object_centre(object_id)
-        return np.hypot(centre[0] - eye[0], centre[1] - eye[1]) <= o.reach and np.linalg.norm(centre - eye) <= 2 * o.reach
+        return bool(np.hypot(centre[0] - eye[0], centre[1] - eye[1]) <= o.reach
+                    and np.linalg.norm(centre - eye) <= 2 * o.reach)
 
     def _aim(self, object_id: int, eye: np.ndarray, yaw0: float, pitch0: float, put: bool) -> tuple[float, float] | None:
         """The (yaw, pitch) nearest to (``yaw0``, ``pitch0``) whose view ray from ``eye``
@@ -347,9 +352,9 @@ class Planner:
             if aim is not None:
                 yaw, pitch = aim
                 error = wrap(yaw - pose.yaw)
-                step = self._step(self._turn(error), self._tilt(pitch - pose.pitch))
+                turn = self._step(self._turn(error), self._tilt(pitch - pose.pitch))
                 limits = o.limits
-                return step, abs(error) <= limits.max_rotate_right and abs(pitch - pose.pitch) <= limits.max_rotate_down
+                return turn, abs(error) <= limits.max_rotate_right and abs(pitch - pose.pitch) <= limits.max_rotate_down
             # Not from here: walk to a stand that has an aim (another one if this is it).
             stand, _ = self._stand(object_id, (purpose,))
             step = self.walk(stand, then_look=self._look_for(object_id, purpose, pose.yaw, pose.pitch))

@@ -86,6 +86,19 @@ class Instruction:
             return f"{self.name}({quote_string(self.arg)})"
         return f"{self.name}({format_number(self.arg) if isinstance(self.arg, float) else self.arg})"
 
+    def object_arg(self) -> int:
+        """The argument as an object id (what ``goto``, ``find`` and ``target`` take);
+        ``TypeError`` if it is none or a text."""
+        if self.arg is None or isinstance(self.arg, str):
+            raise TypeError(f"{self}: the argument must be an object id, got {self.arg!r}")
+        return self.arg
+
+    def text_arg(self) -> str:
+        """The argument as a text (what ``speak`` takes); ``TypeError`` if it is not one."""
+        if not isinstance(self.arg, str):
+            raise TypeError(f"{self}: the argument must be a text, got {self.arg!r}")
+        return self.arg
+
 
 Program = tuple[Instruction, ...]
 

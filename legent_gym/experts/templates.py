@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from legent_gym.experts.oracle import Oracle
 from legent_gym.experts.program import Instruction, Program
+from legent_gym.tasks.base import TaskInstance
 
 __all__ = ["task_program", "TEMPLATES"]
 
@@ -32,6 +33,15 @@ TEMPLATES = {
     "WhereIs": 'find(a) speak("It\'s on the C.")',
     "PutOn": "goto(a) target(a) interact() goto(b) target(b) interact()",
 }
+
+
+def _object(goal: TaskInstance, role: str) -> int:
+    """The goal's object id in ``role`` (``"target"``, ``"receptacle"``): every goal whose
+    template names that object has it."""
+    object_id = getattr(goal, role, None)
+    if object_id is None:
+        raise ValueError(f"a {type(goal).__name__} goal has no {role}")
+    return object_id
 
 
 def _fetch(a: int) -> list[Instruction]:
@@ -55,17 +65,18 @@ def task_program(oracle: Oracle) -> Program:
             out.append(Instruction("goto", a))
         case "PickUp":
             if held != a:
-                out += _fetch(a)
+                out += _fetch(_object(goal, "target"))
         case "BringMe":
             if held != a:
-                out += _fetch(a)
+                out += _fetch(_object(goal, "target"))
             out.append(Instruction("goto_user"))
         case "WhereIs":
-            out += [Instruction("find", a), Instruction("speak", f"It's on the {oracle.name_of(goal.receptacle)}.")]
+            out += [Instruction("find", a),
+                    Instruction("speak", f"It's on the {oracle.name_of(_object(goal, 'receptacle'))}.")]
         case "PutOn":
-            b = goal.receptacle
+            b = _object(goal, "receptacle")
             if held != a:
-                out += _fetch(a)
+                out += _fetch(_object(goal, "target"))
             out += [Instruction("goto", b), Instruction("target", b), Instruction("interact")]
         case _:
             raise ValueError(f"no template for task {name!r}; known: {', '.join(TEMPLATES)}")

@@ -48,7 +48,7 @@ from legent_gym.envs.action_spaces import SPEECH_CHARSET, parse_step
 from legent_gym.envs.episode import Episode
 from legent_gym.envs.household import MAX_TEXT, HouseholdEnv
 from legent_gym.tasks.base import MAX_ACTIONS
-from legent_gym.world.builder import GROUP_COLLISION
+from legent_gym.world.builder import GROUP_COLLISION, World
 from legent_gym.world.render import FreeCamera, Renderer
 
 USER, AGENT = "user", "agent"
@@ -127,7 +127,7 @@ class HouseholdParallelEnv(ParallelEnv):
       field of view.
     """
 
-    metadata = {"name": "legent_household_v0", "render_modes": ["rgb_array"], "render_fps": 4,
+    metadata: dict[str, Any] = {"name": "legent_household_v0", "render_modes": ["rgb_array"], "render_fps": 4,
                 "is_parallelizable": True}
 
     def __init__(self, task: str = "ComeHere", layout: str = "OneRoom", action_type: str = "text", *,
@@ -165,7 +165,7 @@ class HouseholdParallelEnv(ParallelEnv):
         self._user_hears = ""
         self._last_distance: float | None = None
         self._view_renderer: Renderer | None = None
-        self._view_world = None
+        self._view_world: World | None = None
 
     # -- spaces --------------------------------------------------------------------------
     def observation_space(self, agent: str):
@@ -189,7 +189,7 @@ class HouseholdParallelEnv(ParallelEnv):
                              "a 'user' spawn in the scene")
         self.agents = list(self.possible_agents)
         self.cycles = 0
-        instruction = self.episode.goal.instruction
+        instruction = self.episode.require_goal().instruction
         self._agent_instruction = "" if self.instruction_from_user else instruction
         self._agent_hears = self._agent_instruction
         self._user_hears = ""
@@ -220,13 +220,14 @@ class HouseholdParallelEnv(ParallelEnv):
         carried = ctx.user.state.held
         carried_at = ctx.world.object_position(carried) if carried is not None else None
         agent_obs, reward, terminated, _, agent_info = self.core.step(actions[AGENT])
-        if carried is not None and (ctx.agent.state.held == carried or _collides(ctx.world, carried)):
-            ctx.user.state.held = None  # the agent took it out of the user's hands (and maybe put it down)
-        elif carried is not None and not np.array_equal(carried_at, ctx.world.object_position(carried)):
-            # Physics the agent's turn ran (settling a put object, a drawer) moved what the
-            # user carries: back into the user's hands, and the agent's view drawn again.
-            self._restore_carried(ctx.user)
-            agent_obs.update(episode.views(AGENT))
+        if carried is not None and carried_at is not None:  # (both or neither)
+            if ctx.agent.state.held == carried or _collides(ctx.world, carried):
+                ctx.user.state.held = None  # the agent took it out of the user's hands (and maybe put it down)
+            elif not np.array_equal(carried_at, ctx.world.object_position(carried)):
+                # Physics the agent's turn ran (settling a put object, a drawer) moved what the
+                # user carries: back into the user's hands, and the agent's view drawn again.
+                self._restore_carried(ctx.user)
+                agent_obs.update(episode.views(AGENT))
         if len(ctx.speech) > said_before:
             self._user_hears = to_speech(ctx.speech[-1])
 
@@ -253,7 +254,7 @@ class HouseholdParallelEnv(ParallelEnv):
                 raise
             return "", [], str(err)
         ctx = self.episode.require()
-        results = []
+        results: list[dict[str, Any]] = []
         with ctx.user.batched():  # as for the agent: one world update for the step's moves and turns
             for primitive in primitives:
                 outcome = self._user_execute(primitive)
@@ -278,7 +279,7 @@ class HouseholdParallelEnv(ParallelEnv):
         held = ctx.agent.state.held
         before = ctx.world.object_position(held) if held is not None else None
         outcome = episode.execute(primitive, body=ctx.user)
-        if held is not None and ctx.agent.state.held == held and \
+        if held is not None and before is not None and ctx.agent.state.held == held and \
                 not np.array_equal(before, ctx.world.object_position(held)):
             self._restore_carried(ctx.agent)  # physics of the user's put or drawer moved it
         if held is not None and isinstance(primitive, Grab | Interact) and outcome.ok and outcome.target == held:
@@ -293,7 +294,8 @@ class HouseholdParallelEnv(ParallelEnv):
     # -- observations, rewards, infos -------------------------------------------------------
     def _user_observation(self) -> dict[str, Any]:
         views = self.episode.views(USER)
-        obs = {"rgb": views.pop("rgb"), "instruction": self.episode.goal.instruction, "message": self._user_hears}
+        obs = {"rgb": views.pop("rgb"), "instruction": self.episode.require_goal().instruction,
+               "message": self._user_hears}
         obs.update(views)
         return obs
 
@@ -330,17 +332,19 @@ class HouseholdParallelEnv(ParallelEnv):
         world = self.episode.world
         if self.render_mode is None or world is None:
             return None
-        if self._view_world is not world:  # a new house since the last frame
-            if self._view_renderer is not None:
-                self._view_renderer.close()
-            self._view_renderer = Renderer(world, self.render_size, self.render_size, "fast")
+        renderer = self._view_renderer
+        if renderer is None or self._view_world is not world:  # the first frame, or a new house
+            if renderer is not None:
+                renderer.close()
+            renderer = self._view_renderer = Renderer(world, self.render_size, self.render_size, "fast")
             self._view_world = world
-        a, u = self.episode.ctx.agent.state, self.episode.ctx.user.state
+        ctx = self.episode.require()
+        a, u = ctx.agent.state, ctx.user.state
         gap = math.hypot(u.x - a.x, u.y - a.y)
         side = math.degrees(math.atan2(u.y - a.y, u.x - a.x)) - 90.0  # look across the line joining them
         camera = FreeCamera(((a.x + u.x) / 2, (a.y + u.y) / 2, 0.8), max(4.0, 0.9 * gap + 2.5),
                             azimuth=side, elevation=-55.0)
-        return self._view_renderer.rgb(camera)
+        return renderer.rgb(camera)
 
     def close(self):
         if self._view_renderer is not None:

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from legent_gym.agent.actions import MoveForward, RotateRight, Speak, format_actions
+from legent_gym.agent.actions import Action, MoveForward, RotateRight, Speak, format_actions
 
 ARRIVED = 0.3  # metres: a goal this close counts as reached
 
@@ -58,7 +58,7 @@ def walk_along(body, path: Sequence[tuple[float, float]], max_move: float) -> st
     else:
         return None
     error = (math.degrees(math.atan2(cy - s.y, cx - s.x)) - s.yaw + 180.0) % 360.0 - 180.0  # + is to the left
-    step = []
+    step: list[Action] = []
     if abs(error) > 1.0:
         step.append(RotateRight(round(-max(-90.0, min(90.0, error)), 1)))
     move = round(min(distance, max_move), 2)

@@ -82,7 +82,7 @@ _GRIDS: OrderedDict[tuple, tuple[NavGrid, NavGrid]] = OrderedDict()
 _GRID_CACHE_SIZE, _FIELDS_PER_GRID = 4, 16
 
 
-def yaw_pitch_to(eye: Sequence[float], point: Sequence[float]) -> tuple[float, float]:
+def yaw_pitch_to(eye: Sequence[float] | np.ndarray, point: Sequence[float] | np.ndarray) -> tuple[float, float]:
     """The yaw and pitch (degrees; + pitch looks down) that look from ``eye`` at ``point``."""
     dx, dy, dz = point[0] - eye[0], point[1] - eye[1], point[2] - eye[2]
     return math.degrees(math.atan2(dy, dx)), math.degrees(math.atan2(-dz, math.hypot(dx, dy)))
@@ -207,6 +207,13 @@ def put_spot(ctx: TaskContext, host: int, point: np.ndarray, item: int) -> np.nd
     return spot
 
 
+def _put_item(item: int | None) -> int:
+    """The item a put sets down (a put without one is a caller's mistake)."""
+    if item is None:
+        raise ValueError("a put needs the held item (item is None)")
+    return item
+
+
 def put_spots(ctx: TaskContext, host: int, item: int) -> np.ndarray:
     """Points (N, 3) on ``host``'s surfaces where ``put`` aimed at them would set ``item``
     down (the body's own room check)."""
@@ -258,17 +265,18 @@ def aims(ctx: TaskContext, eye: np.ndarray, object_id: int, reach: float, *, ite
         centre = ctx.object_centre(object_id)
         if math.hypot(centre[0] - eye[0], centre[1] - eye[1]) > reach or np.linalg.norm(centre - eye) > 2 * reach:
             return []
+    held = _put_item(item) if put else None  # not None exactly when ``put``
     if points is None:
-        points = put_spots(ctx, object_id, item) if put else aim_points(ctx, object_id)
+        points = put_spots(ctx, object_id, held) if held is not None else aim_points(ctx, object_id)
     points = _in_view(eye, points, reach, pitch_range)
     if len(points) == 0:
         return []
 
     def serves(dist, hit, at):
         ok = (hit == object_id) & (np.hypot(at[:, 0] - eye[0], at[:, 1] - eye[1]) <= reach) & (dist <= 2 * reach)
-        if put:
+        if held is not None:
             for i in np.nonzero(ok)[0]:
-                ok[i] = put_spot(ctx, object_id, at[i], item) is not None
+                ok[i] = put_spot(ctx, object_id, at[i], held) is not None
         return ok
 
     return [yaw_pitch_to(eye, points[i]) for i in _first_hits(ctx, eye, points, item, serves)]
@@ -322,8 +330,8 @@ def stands(ctx: TaskContext, object_id: int, purpose: str, start: Sequence[float
            pitch_range: tuple[float, float] = (-60.0, 60.0), grid: NavGrid | None = None,
            stride: int = 1) -> Iterator[tuple[float, float]]:
     """Stands for ``purpose``, geodesically nearest to ``start`` first (lazily checked)."""
-    points = put_spots(ctx, object_id, item) if purpose == "put" else None
-    if purpose == "put" and len(points) == 0:
+    points = put_spots(ctx, object_id, _put_item(item)) if purpose == "put" else None
+    if points is not None and len(points) == 0:
         return
     for xy in stand_candidates(ctx, object_id, stand_reach(ctx, purpose), start, grid, stride):
         if stand_ok(ctx, xy, object_id, purpose, item, pitch_range, points):
@@ -371,11 +379,11 @@ def walk_path(ctx: TaskContext, start: Sequence[float], goal: Sequence[float],
     path = [np.asarray(p, dtype=float) for p in grid.path(tuple(start), tuple(goal))]
     if not path:
         return []
-    start, goal = np.asarray(start[:2], dtype=float), np.asarray(goal[:2], dtype=float)
-    points = [start]
-    if math.dist(path[0], start) >= MIN_CORNER_GAP and not (len(path) > 1 and ctx.nav.line_of_sight(start, path[1], through="walkable")):
+    here, there = np.asarray(start[:2], dtype=float), np.asarray(goal[:2], dtype=float)
+    points = [here]
+    if math.dist(path[0], here) >= MIN_CORNER_GAP and not (len(path) > 1 and ctx.nav.line_of_sight(here, path[1], through="walkable")):
         points.append(path[0])
-    for p in [*path[1:], goal]:
+    for p in [*path[1:], there]:
         if math.dist(p, points[-1]) >= MIN_CORNER_GAP:
             points.append(p)
     return merge_corners(grid, points)
@@ -452,7 +460,7 @@ def user_leg(ctx: TaskContext, start: Sequence[float] | None = None, yaw: float 
     yaw = ctx.agent.state.yaw if yaw is None else yaw
     user = ctx.user.position
     if math.dist(start, user) <= USER_STOP + 0.05:
-        return Leg(0, start, yaw)
+        return Leg(0, (start[0], start[1]), yaw)
     stand = user_stand(ctx, start)
     if stand is None:
         return None

@@ -56,7 +56,12 @@ def _draw(options: list, rng, achievable):
 
 def _fits(*legs: Leg | None, interactions: int = 0) -> bool:
     """Every walk exists, and with the interactions the expert's plan stays within budget."""
-    return None not in legs and sum(leg.actions for leg in legs) + interactions <= PLAN_BUDGET
+    total = interactions
+    for leg in legs:
+        if leg is None:
+            return False
+        total += leg.actions
+    return total <= PLAN_BUDGET
 
 
 def _rests_on(ctx: TaskContext, item: int, host: int) -> bool:

@@ -9,7 +9,7 @@ import numpy as np
 
 from legent_gym.world.assets import registry
 from legent_gym.world.builder import World, build_world
-from legent_gym.world.render import FreeCamera, Renderer
+from legent_gym.world.render import FreeCamera, Profile, Renderer
 from legent_gym.world.scene import ImportedAsset, Scene, validate_scene
 
 
@@ -50,7 +50,7 @@ def fitted_camera(world: World, object_id: int = 0) -> FreeCamera:
     return FreeCamera(tuple(centre), distance, azimuth=240.0, elevation=-25.0)
 
 
-def render_asset_preview(asset_id: str, variant: int = 0, *, size: int = 256, profile: str = "pretty",
+def render_asset_preview(asset_id: str, variant: int = 0, *, size: int = 256, profile: Profile = "pretty",
                          imported: ImportedAsset | None = None, base_dir: Path | None = None) -> np.ndarray:
     world = build_world(preview_scene(asset_id, variant, imported=imported, base_dir=base_dir, kind="static"))
     renderer = Renderer(world, size, size, profile)

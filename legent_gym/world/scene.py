@@ -25,17 +25,17 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Final, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator
 
 from legent_gym.atomic import atomic_write_text
 from legent_gym.world.geometry import polygon_signed_area
 
-SCENE_FORMAT = "legent_gym.scene"
-SCENE_VERSION = 1
+SCENE_FORMAT: Final = "legent_gym.scene"
+SCENE_VERSION: Final = 1
 
 #: Object kinds: ``static`` never moves (furniture); ``interactable`` is a free body under
 #: gravity that the agent can pick up.
@@ -306,21 +306,22 @@ def check_references(scene: Scene, asset_known: AssetLookup | None = None) -> li
             if rid != "exterior" and rid not in room_ids:
                 problems.append((f"walls[{i}].rooms[{j}]", f"unknown room {rid!r}"))
 
-    for kind, items in (("doors", scene.doors), ("windows", scene.windows)):
+    openings: tuple[tuple[str, Sequence[Door | Window]], ...] = (("doors", scene.doors), ("windows", scene.windows))
+    for kind, items in openings:
         for i, item in enumerate(items):
-            wall = walls.get(item.wall)
-            if wall is None:
+            host = walls.get(item.wall)
+            if host is None:
                 problems.append((f"{kind}[{i}].wall", f"unknown wall {item.wall!r}"))
                 continue
             half = item.width / 2
-            if item.offset - half < -1e-9 or item.offset + half > wall.length + 1e-9:
+            if item.offset - half < -1e-9 or item.offset + half > host.length + 1e-9:
                 problems.append(
                     (f"{kind}[{i}].offset", f"opening [{item.offset - half:.3f}, {item.offset + half:.3f}] "
-                     f"does not fit in wall {wall.id!r} of length {wall.length:.3f}")
+                     f"does not fit in wall {host.id!r} of length {host.length:.3f}")
                 )
             top = item.height + (item.sill if isinstance(item, Window) else 0.0)
-            if top > wall.height + 1e-9:
-                problems.append((f"{kind}[{i}].height", f"opening is taller than wall {wall.id!r}"))
+            if top > host.height + 1e-9:
+                problems.append((f"{kind}[{i}].height", f"opening is taller than wall {host.id!r}"))
     for i, door in enumerate(scene.doors):
         for j, rid in enumerate(door.connects):
             if rid != "exterior" and rid not in room_ids:

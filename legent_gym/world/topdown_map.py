@@ -62,7 +62,8 @@ class _View:
 
 
 def _rgb(rgba: Sequence[float]) -> tuple[int, int, int]:
-    return tuple(int(round(255 * c)) for c in rgba[:3])
+    r, g, b = (int(round(255 * c)) for c in rgba[:3])
+    return r, g, b
 
 
 def _label(img: np.ndarray, text: str, at: tuple[int, int], scale: float) -> None:

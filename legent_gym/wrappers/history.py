@@ -29,10 +29,15 @@ class InterleavedHistory(gym.Wrapper):
         if k < 1:
             raise ValueError(f"history length k must be >= 1, got {k}")
         self.k = k
-        rgb = env.observation_space["rgb"]
+        source = env.observation_space
+        rgb = source.spaces.get("rgb") if isinstance(source, spaces.Dict) else None
+        if not isinstance(source, spaces.Dict) or not isinstance(rgb, spaces.Box):
+            raise TypeError(f"InterleavedHistory needs a Dict observation space with an 'rgb' Box, got {source}")
+        #: (k, H, W, 3): the shape of ``history_rgb``.
+        self._history_shape = (k, *rgb.shape)
         self.observation_space = spaces.Dict({
-            **env.observation_space.spaces,
-            "history_rgb": spaces.Box(0, 255, (k, *rgb.shape), np.uint8),
+            **source.spaces,
+            "history_rgb": spaces.Box(0, 255, self._history_shape, np.uint8),
             "history_text": spaces.Text(max_length=max_text, min_length=0,
                                         charset=speech_space().character_set | set("<>\n")),
         })
@@ -40,7 +45,7 @@ class InterleavedHistory(gym.Wrapper):
         self._steps: deque[list] = deque(maxlen=k)
 
     def _with_history(self, obs):
-        stack = np.zeros(self.observation_space["history_rgb"].shape, dtype=np.uint8)
+        stack = np.zeros(self._history_shape, dtype=np.uint8)
         stack[self.k - len(self._steps):] = np.stack([frame for frame, _ in self._steps])
         text = "\n".join(f"Observation: {IMAGE_TOKEN} Action:" + (f" {action}" if action else "")
                          for _, action in self._steps)

@@ -37,14 +37,17 @@ class InstructionTokens(gym.ObservationWrapper):
     def __init__(self, env: gym.Env, vocab_size: int = 1024, max_tokens: int = 16):
         super().__init__(env)
         self.vocab_size, self.max_tokens = vocab_size, max_tokens
-        obs_space = {}
-        for key, space in env.observation_space.spaces.items():
+        source = env.observation_space
+        if not isinstance(source, spaces.Dict):
+            raise TypeError(f"InstructionTokens needs a Dict observation space, got {source}")
+        obs_space: dict[str, spaces.Space] = {}
+        for key, space in source.spaces.items():
             if isinstance(space, spaces.Text):
                 obs_space[key] = spaces.Box(0, vocab_size - 1, (max_tokens,), np.int64)
             else:
                 obs_space[key] = space
         self.observation_space = spaces.Dict(obs_space)
-        self._text_keys = [k for k, s in env.observation_space.spaces.items() if isinstance(s, spaces.Text)]
+        self._text_keys = [k for k, s in source.spaces.items() if isinstance(s, spaces.Text)]
 
     def observation(self, observation):
         out = dict(observation)
@@ -63,7 +66,10 @@ class FlatActions(gym.ActionWrapper):
     def __init__(self, env: gym.Env):
         super().__init__(env)
         self.action_space = spaces.Box(-1.0, 1.0, (4,), np.float32)
-        self.limits = env.unwrapped.episode.limits
+        episode = getattr(env.unwrapped, "episode", None)  # HouseholdEnv's, SingleAgentEnv's
+        if episode is None:
+            raise TypeError(f"FlatActions needs a legent_gym env (one with an episode engine), got {env.unwrapped}")
+        self.limits: ActionLimits = episode.limits
 
     def action(self, action):
         return flat_action_text(action, self.limits)
