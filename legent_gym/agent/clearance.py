@@ -20,7 +20,7 @@ Geoms of bodies welded to the world (walls, furniture) are taken once; geoms tha
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import NamedTuple, cast
 
 import numpy as np
 
@@ -53,8 +53,10 @@ class BoxSet(NamedTuple):
     @classmethod
     def from_rows(cls, rows: np.ndarray) -> BoxSet:
         """From an (n, 7) array of :meth:`ClearanceMap._oriented_boxes` rows."""
-        columns = (np.ascontiguousarray(column) for column in rows.T)
-        return cls(*columns, [tuple(r) for r in rows[:, :6].tolist()])
+        cx, cy, cos, sin, hx, hy, bound = (np.ascontiguousarray(column) for column in rows.T)
+        per_box = cast(list[tuple[float, float, float, float, float, float]],  # six columns
+                       [tuple(r) for r in rows[:, :6].tolist()])
+        return cls(cx, cy, cos, sin, hx, hy, bound, per_box)
 
 
 class ClearanceMap:

@@ -24,17 +24,20 @@ import json
 import math
 import os
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Generator
 from contextlib import closing
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text
 from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
 from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
 from legent_gym.experts.planners import FIND_STRATEGIES
 from legent_gym.workers import map_ordered
+
+if TYPE_CHECKING:
+    from legent_gym.world.scene import Scene
 
 FORMATS = ("minari", "legent", "video")
 PROGRESS_FILE = "progress.json"
@@ -155,10 +158,17 @@ class _Worker:
             from legent_gym.data.video import episode_map, episode_video
 
             result.video = episode_video(episode)
-            result.map_png = encode_png(episode_map(self.env.unwrapped.episode.ctx.scene, episode))
+            result.map_png = encode_png(episode_map(self._scene(), episode))
         if "minari" not in self.formats:
             episode.observations = []  # the images travel as PNGs; spare the pipe
         return result
+
+    def _scene(self) -> Scene:
+        """The scene of the env's current house (from its episode engine)."""
+        engine = getattr(self.env.unwrapped, "episode", None)
+        if engine is None:
+            raise TypeError(f"{self.env_id} is not a legent_gym env: it has no episode engine")
+        return engine.require().scene
 
     def close(self) -> None:
         self.env.close()
@@ -173,10 +183,13 @@ def _init_worker(*args) -> None:
 
 
 def _run_attempt(attempt: int, seed: int) -> AttemptResult:
+    if _worker is None:
+        raise RuntimeError("this process has no collection worker (_init_worker did not run)")
     return _worker.run(attempt, seed)
 
 
-def _attempt_results(config: CollectConfig, policy, start: int, limit: int) -> Iterator[AttemptResult]:
+def _attempt_results(config: CollectConfig, policy, start: int,
+                     limit: int) -> Generator[AttemptResult, None, None]:
     """Results of attempts ``start, start + 1, ...`` in order (computed ahead in parallel)."""
     worker_args = (config.env_id, config.env_kwargs, policy, tuple(config.formats), config.perturb,
                    config.find_strategy)
@@ -312,12 +325,12 @@ class _Writers:
 
     def commit(self, result: AttemptResult, index: int) -> None:
         """Write one successful episode everywhere (the caller then counts it)."""
-        episode, traj_id = result.episode, LegentWriter.trajectory_id(index)
+        episode, traj_id = _required(result.episode, "episode"), LegentWriter.trajectory_id(index)
         if self.legent is not None:
-            self.legent.write(episode, index, result.pngs)
+            self.legent.write(episode, index, _required(result.pngs, "PNGs"))
         if self.video_dir is not None:
-            atomic_write_bytes(self.video_dir / f"{traj_id}_map.png", result.map_png, durable=False)
-            atomic_write_bytes(self.video_dir / f"{traj_id}.mp4", result.video, durable=False)
+            atomic_write_bytes(self.video_dir / f"{traj_id}_map.png", _required(result.map_png, "map"), durable=False)
+            atomic_write_bytes(self.video_dir / f"{traj_id}.mp4", _required(result.video, "video"), durable=False)
         if self.minari is not None:
             self.minari.append(episode, index, {"legent_id": traj_id}, durable=False)
 
@@ -326,6 +339,17 @@ class _Writers:
             self.legent.checkpoint(durable=False)
         if self.minari is not None:
             self.minari.close()
+
+
+_T = TypeVar("_T")
+
+
+def _required(value: _T | None, what: str) -> _T:
+    """A part of a successful attempt's result (a worker encodes each format the run writes)."""
+    if value is None:
+        raise ValueError(f"the attempt result has no {what}: only a successful attempt, encoded in "
+                         "every format the run writes, is committed")
+    return value
 
 
 def _open_writers(out: Path, config: CollectConfig, progress: _Progress) -> _Writers:

@@ -60,7 +60,8 @@ def read_png(path: str | os.PathLike) -> np.ndarray:
 
 def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
     """The ``trajectory.json`` of an episode."""
-    steps = [{"image": f"{traj_id}/{n:04d}.png", "action": text} for n, text in enumerate(episode.action_texts)]
+    steps: list[dict[str, Any]] = [{"image": f"{traj_id}/{n:04d}.png", "action": text}
+                                   for n, text in enumerate(episode.action_texts)]
     for step, label in zip(steps, episode.labels):
         if label is not None:  # a perturbed or DAgger step (record_episode): the expert's action
             step["expert_action"] = label

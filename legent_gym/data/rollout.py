@@ -173,9 +173,9 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
     episode.goal_views.append(info.get("goal_view"))
     while True:
         action = policy(obs, info)
-        perturbed = rng is not None and rng.random() < perturb
-        if perturbed:
-            action = perturbation(rng)
+        perturbed = False
+        if rng is not None and rng.random() < perturb:
+            perturbed, action = True, perturbation(rng)
         label = _expert_label(info) if perturbed or expert_labels else None
         obs, reward, terminated, truncated, info = env.step(action)
         episode.actions.append(action)

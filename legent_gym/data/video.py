@@ -88,7 +88,7 @@ def read_video(data_or_path) -> list[np.ndarray]:
     import av
 
     source = io.BytesIO(data_or_path) if isinstance(data_or_path, bytes | bytearray) else str(data_or_path)
-    with av.open(source) as container:
+    with av.open(source, mode="r") as container:
         return [frame.to_ndarray(format="rgb24") for frame in container.decode(video=0)]
 
 

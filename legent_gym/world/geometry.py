@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
@@ -44,7 +44,7 @@ def wall_frame(wall: Wall) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     return start, u, np.array([-u[1], u[0]]), length
 
 
-def heading_deg(direction: Sequence[float]) -> float:
+def heading_deg(direction: Sequence[float] | np.ndarray) -> float:
     """Heading of a direction vector in degrees (0 along +x, counter-clockwise)."""
     return math.degrees(math.atan2(direction[1], direction[0]))
 
@@ -196,7 +196,7 @@ def expand(boxes: np.ndarray, margin: float) -> np.ndarray:
     return boxes + np.array([-margin, -margin, margin, margin])
 
 
-def boxes_overlap(a: Sequence[float], b: Sequence[float]) -> bool:
+def boxes_overlap(a: Sequence[float] | np.ndarray, b: Sequence[float] | np.ndarray) -> bool:
     """Whether two boxes overlap with positive area (boxes that only touch do not)."""
     return bool(a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3])
 
@@ -288,7 +288,7 @@ def polygon_signed_area(polygon: Iterable[tuple[float, float]]) -> float:
     )
 
 
-def polygon_centroid(polygon: Sequence[Sequence[float]]) -> np.ndarray:
+def polygon_centroid(polygon: Sequence[Sequence[float]] | np.ndarray) -> np.ndarray:
     """Centroid (x, y) of the area of a simple polygon."""
     p = np.asarray(polygon, dtype=np.float64)
     x, y = p[:, 0], p[:, 1]
@@ -301,15 +301,24 @@ def polygon_centroid(polygon: Sequence[Sequence[float]]) -> np.ndarray:
 def inside_polygon(x: np.ndarray, y: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Booleans, of ``x`` and ``y`` broadcast together: points inside the polygon (M, 2), by
     the even-odd rule."""
+    xa, ya, xb, yb = _slanted_edges(poly)
+    x, y = np.asarray(x)[..., None], np.asarray(y)[..., None]
+    # Every edge at once (a last axis over edges): per element the arithmetic of an edge
+    # by edge loop, and the parity of the crossings is what XOR-ing them gives.
+    crosses = (ya > y) != (yb > y)
+    x_at = xa + (y - ya) * (xb - xa) / (yb - ya)
+    inside = np.count_nonzero(crosses & (x < x_at), axis=-1) % 2 == 1
+    shape = np.broadcast_shapes(x.shape[:-1], y.shape[:-1])
+    return inside if inside.shape == shape else np.broadcast_to(inside, shape).copy()
+
+
+def _slanted_edges(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """(xa, ya, xb, yb) of a polygon's edges that are not horizontal (the only ones a
+    horizontal ray from a point can cross), each (E,)."""
     poly = np.asarray(poly, dtype=np.float64)
-    inside = np.zeros(np.broadcast_shapes(np.shape(x), np.shape(y)), dtype=bool)
-    for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
-        if ya == yb:
-            continue
-        crosses = (ya > y) != (yb > y)
-        x_at = xa + (y - ya) * (xb - xa) / (yb - ya)
-        inside ^= crosses & (x < x_at)
-    return inside
+    nxt = np.roll(poly, -1, axis=0)
+    keep = poly[:, 1] != nxt[:, 1]
+    return poly[keep, 0], poly[keep, 1], nxt[keep, 0], nxt[keep, 1]
 
 
 def points_in_polygon(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:
@@ -337,7 +346,8 @@ def rects_in_polygon(boxes: np.ndarray, poly: np.ndarray) -> np.ndarray:
     ok = points_in_polygon(corners, poly).reshape(-1, 4).all(axis=1)
     vx, vy = poly[:, 0][None, :], poly[:, 1][None, :]
     vertex_inside = ((vx > r[:, 0:1]) & (vx < r[:, 2:3]) & (vy > r[:, 1:2]) & (vy < r[:, 3:4])).any(axis=1)
-    return ok & ~vertex_inside
+    # .all/.any along an axis of a 2-D array give arrays (numpy's types allow a scalar)
+    return cast(np.ndarray, ok & ~vertex_inside)
 
 
 # ---------------------------------------------------------------------------------------

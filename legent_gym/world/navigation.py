@@ -338,6 +338,15 @@ class NavGrid:
         self._index = index
         self._cells = np.argwhere(walk)
 
+    def _path_graph(self) -> tuple[csr_matrix, np.ndarray, np.ndarray]:
+        """(the path graph, each cell's graph node or -1, each node's cell), built on first use."""
+        if self._graph is None:
+            self._build_graph()
+        graph, index, cells = self._graph, self._index, self._cells
+        if graph is None or index is None or cells is None:
+            raise RuntimeError("the path graph was not built")
+        return graph, index, cells
+
     def precompute(self) -> NavGrid:
         """Build the path graph, components and snapping table now (else on first use)."""
         if self._graph is None:
@@ -348,14 +357,13 @@ class NavGrid:
 
     def _field(self, cell: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
         """(distances, predecessors) over graph nodes from ``cell``, cached (LRU)."""
-        if self._graph is None:
-            self._build_graph()
-        node = int(self._index[cell])
+        graph, index, _ = self._path_graph()
+        node = int(index[cell])
         hit = self._fields.get(node)
         if hit is not None:
             self._fields.move_to_end(node)
             return hit
-        dist, pred = dijkstra(self._graph, directed=True, indices=node, return_predecessors=True)
+        dist, pred = dijkstra(graph, directed=True, indices=node, return_predecessors=True)
         self._fields[node] = (dist, pred)
         if len(self._fields) > self.cache_size:
             self._fields.popitem(last=False)
@@ -386,12 +394,13 @@ class NavGrid:
         if s_cell == g_cell:
             return [start_pt] if start_pt == goal_pt else [start_pt, goal_pt]
         _, pred = self._field(g_cell)
-        node = int(self._index[s_cell])
+        _, index, cells = self._path_graph()
+        node = int(index[s_cell])
         chain = [node]
         while node >= 0 and pred[node] >= 0:
             node = int(pred[node])
             chain.append(node)
-        rc = self._cells[np.asarray(chain)].astype(np.float64) + 0.5  # continuous (row, col)
+        rc = cells[np.asarray(chain)].astype(np.float64) + 0.5  # continuous (row, col)
         pts = np.column_stack([rc[:, 1], rc[:, 0]])  # (col, row) == grid x, y
         pts[0] = self._grid_xy(start_pt)
         pts[-1] = self._grid_xy(goal_pt)
@@ -410,7 +419,7 @@ class NavGrid:
             return (float(xy[0]), float(xy[1]))
         return self.to_world(cell)
 
-    def _grid_xy(self, xy: Sequence[float]) -> np.ndarray:
+    def _grid_xy(self, xy: Sequence[float] | np.ndarray) -> np.ndarray:
         return np.array([(xy[0] - self.origin[0]) / self.resolution, (xy[1] - self.origin[1]) / self.resolution])
 
     def _world_xy(self, g: np.ndarray) -> XY:
@@ -449,7 +458,8 @@ class NavGrid:
         return _segments_clear(self.walkable, a, targets)
 
     # -- line of sight and reach --------------------------------------------------------
-    def line_of_sight(self, a: Sequence[float], b: Sequence[float], *, through: str = "walls") -> bool:
+    def line_of_sight(self, a: Sequence[float] | np.ndarray, b: Sequence[float] | np.ndarray, *,
+                      through: str = "walls") -> bool:
         """Whether segment a -> b crosses no wall (``through="walls"``) or stays on
         walkable cells (``through="walkable"``)."""
         ga, gb = self._grid_xy(a), self._grid_xy(b)
@@ -540,8 +550,8 @@ class NavGrid:
             return empty
         if len(order) == 0:
             return empty
-        clear = self._wall_free(*self._sight_segments(px[order], py[order], nearest[order]))
-        keep = order[clear]
+        in_sight = self._wall_free(*self._sight_segments(px[order], py[order], nearest[order]))
+        keep = order[in_sight]
         return np.column_stack([rr[keep] + sl[0].start, cc[keep] + sl[1].start]), dist[keep]
 
     def _component_mask(self, component: int) -> np.ndarray:

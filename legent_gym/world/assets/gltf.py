@@ -258,7 +258,8 @@ def _validate_size(path: Path, size) -> tuple[float, float, float] | None:
     if len(values) != 3 or not all(math.isfinite(v) and v > 0 for v in values):
         raise AssetImportError(f"{path}: size must be three positive finite numbers (x, y, z), "
                                f"not {size!r}")
-    return values  # type: ignore[return-value]
+    x, y, z = values
+    return x, y, z
 
 
 def _string_tuple(path: Path, what: str, values) -> tuple[str, ...]:

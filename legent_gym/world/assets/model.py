@@ -19,6 +19,8 @@ from typing import Literal
 import numpy as np
 
 Placement = Literal["wall", "corner", "middle", "surface"]
+#: A part's collision shape (see :attr:`Part.collision`).
+Collision = Literal["box", "hull", "none"]
 
 
 @dataclass
@@ -30,7 +32,7 @@ class Part:
     rgba: tuple[float, float, float, float] = (0.7, 0.7, 0.7, 1.0)
     #: "box": collide with the part's axis-aligned bounding box (exact for box parts);
     #: "hull": its convex hull; "none": visual only.
-    collision: Literal["box", "hull", "none"] = "hull"
+    collision: Collision = "hull"
     uv: np.ndarray | None = None  # (N, 2) texture coordinates, v pointing up
     texture: np.ndarray | None = None  # (H, W, 3) uint8 image, for imported assets
     material: str = "plain"  # style hint: wood, fabric, metal, plastic, ceramic, glass, ...

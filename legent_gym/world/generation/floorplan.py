@@ -562,6 +562,8 @@ def _exterior_door(fp: FloorPlan, rng: np.random.Generator, openness: float) -> 
                 continue
             wall = fp.walls[walls[int(rng.integers(len(walls)))]]
             offset = _door_offset(wall.length, EXTERIOR_DOOR_WIDTH, rng)
+            if offset is None:  # never: the walls kept are long enough
+                raise PlanFailed(f"wall {wall.id} is too short for the front door")
             # Outer walls have their room on the left: the leaf swings inward.
             return Door(id="door", wall=wall.id, offset=offset, width=EXTERIOR_DOOR_WIDTH, leaf=True,
                         hinge="start" if rng.random() < 0.5 else "end", swing="left",

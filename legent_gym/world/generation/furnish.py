@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 from scipy import ndimage
@@ -234,6 +235,12 @@ class RoomSpace:
     @property
     def bbox(self) -> np.ndarray:
         return bounding_box(self.inner)
+
+    def require_reach(self) -> RoomReach:
+        """The room's reach check (made right after the space: it needs the space)."""
+        if self.reach is None:
+            raise RuntimeError(f"room {self.index} has no reach check yet")
+        return self.reach
 
     def edges(self):
         """Inner wall edges: (start, unit direction, inward normal, length, start convex,
@@ -486,7 +493,7 @@ class Furnisher:
         ``placement`` come first (preference 10); wall poses are the fallback."""
         placement = model.placement if model.placement in ("wall", "corner", "middle") else "wall"
         local = local_footprint(model)
-        poses = []
+        poses: list[tuple[float, float, float, float]] = []
         for p0, e, n, length, conv0, conv1 in space.edges():
             q = quarter_turns_facing(n)
             s_min, s_max = WALL_GAP - local[0], length - WALL_GAP - local[2]
@@ -513,10 +520,11 @@ class Furnisher:
         Returns (C,) whether every member of the candidate group fits."""
         c, m = rects.shape[:2]
         flat = rects.reshape(-1, 4)
-        ok = rects_in_polygon(flat, space.inner)
         fr = fronts.reshape(-1, 4)
         has_front = fr[:, 2] > fr[:, 0]
-        ok &= ~has_front | rects_in_polygon(np.where(has_front[:, None], fr, flat), space.inner)
+        # Footprints and front zones tested in one call (row by row the same test).
+        inside = rects_in_polygon(np.concatenate([flat, np.where(has_front[:, None], fr, flat)]), space.inner)
+        ok = inside[:len(flat)] & (~has_front | inside[len(flat):])
         others = [self.pieces[k] for k in space.pieces if self.pieces[k].on_floor]
         if others:
             feet = np.array([p.rect for p in others])
@@ -529,7 +537,8 @@ class Furnisher:
             heights = np.tile(tall, c)
             hit = overlap_matrix(flat, space.windows[:, :4]) & (heights[:, None] > space.windows[None, :, 4] + WINDOW_TOLERANCE)
             ok &= ~hit.any(axis=1)
-        return ok.reshape(c, m).all(axis=1)
+        # .all along an axis of a 2-D array gives an array (numpy's types allow a scalar)
+        return cast(np.ndarray, ok.reshape(c, m).all(axis=1))
 
     # -- placing ------------------------------------------------------------------------
     def place(self, space: RoomSpace, category: str, *, group: str | None = None,
@@ -636,14 +645,15 @@ class Furnisher:
             space.pieces.pop()
             if piece.category in self.caps:
                 self.caps[piece.category] += 1
-        space.reach.clear()
+        reach = space.require_reach()
+        reach.clear()
         for k in space.pieces:
             if self.pieces[k].on_floor:
-                space.reach.add(self.pieces[k].rect)
+                reach.add(self.pieces[k].rect)
 
     def _room_ok(self, space: RoomSpace) -> bool:
         targets = [self.pieces[k].rect for k in space.pieces if self.pieces[k].on_floor]
-        return space.reach.ok(targets)
+        return space.require_reach().ok(targets)
 
     # -- groups -------------------------------------------------------------------------
     def group_variants(self, group: str, anchor: AssetModel) -> list[list[Member]]:
@@ -830,10 +840,11 @@ def furnish_house(fp: FloorPlan, catalog: Catalog, rng: np.random.Generator, *,
             if f.available(rule.category) and not f.place(space, rule.category, group=rule.group,
                                                           required=True, tries=4):
                 raise PlacementFailed(f"no room for a {rule.category} in the {room_label(fp, space.index)}")
-    for cat in sorted(need or {}):
-        while f.count(cat) < (need or {})[cat]:
+    wanted = need or {}
+    for cat in sorted(wanted):
+        while f.count(cat) < wanted[cat]:
             if not f.place_anywhere(cat):
-                raise PlacementFailed(f"placed {f.count(cat)} of {need[cat]}: no more room for a {cat}", cat)
+                raise PlacementFailed(f"placed {f.count(cat)} of {wanted[cat]}: no more room for a {cat}", cat)
     for space in f.spaces:
         rules = ROOM_FURNITURE.get(space.rtype, ([], []))[1] + extra_rules(catalog, space.rtype)
         for rule in rules:

@@ -130,9 +130,12 @@ def resolve_conditions(spec: HouseSpec, catalog: Catalog) -> Conditions:
 
 def _check_room_types(spec: HouseSpec, catalog: Catalog, c: Conditions) -> None:
     """With a fixed room list, every needed piece must be allowed in one of its rooms."""
-    if spec.rooms is None and spec.room_options is None:
+    if spec.rooms is not None:
+        options = [spec.rooms]
+    elif spec.room_options is not None:
+        options = spec.room_options
+    else:
         return
-    options = [spec.rooms] if spec.rooms is not None else spec.room_options
     wanted = [([cat], c.labels[cat]) for cat in sorted(c.need) if c.need[cat] > 0] + c.need_any
     for cats, label in wanted:
         types = set().union(*(allowed_room_types(catalog, cat) for cat in cats))
@@ -350,7 +353,7 @@ def attempt_house(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
     furn = _furnish(c, fp, catalog, rng)
     rooms = _scene_rooms(fp, rng)
     lights = [ceiling_light(light_point(p), spec.wall_height) for p in fp.polygons]
-    base = dict(name=spec.name or f"house-{seed}", seed=seed, rooms=rooms, walls=fp.walls, doors=fp.doors,
+    base: dict[str, Any] = dict(name=spec.name or f"house-{seed}", seed=seed, rooms=rooms, walls=fp.walls, doors=fp.doors,
                 windows=fp.windows, lights=lights)
     bare = Scene(**base, objects=_objects(fp, furn.pieces, []), agent=Spawn(position=(0.0, 0.0)))
     nav = NavGrid.from_scene(bare, agent_radius=0.25, resolution=0.05)

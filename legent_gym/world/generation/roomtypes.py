@@ -85,10 +85,10 @@ def parse_rooms(text: str) -> list[str]:
             i += 1
             continue
         two = " ".join(tokens[i:i + 2])
-        if len(tokens) > i + 1 and room_type_of(two) is not None and " " in two:
-            rtype, i = room_type_of(two), i + 2
-        elif room_type_of(tok) is not None:
-            rtype, i = room_type_of(tok), i + 1
+        if len(tokens) > i + 1 and (pair := room_type_of(two)) is not None and " " in two:
+            rtype, i = pair, i + 2
+        elif (single := room_type_of(tok)) is not None:
+            rtype, i = single, i + 1
         elif tok in _FILLER or tok in _NUMBER_WORDS:
             i += 1
             continue

@@ -205,10 +205,10 @@ def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, s
             out.append(f"{names[obj.id]} is not inside a receptacle of {names[obj.on]}")
             continue
         by_surface.setdefault((obj.on, found[0]), []).append(obj.id)
-    for members in by_surface.values():
+    for (host, _), members in by_surface.items():
         for i, j in combinations(members, 2):
             if penetration(feet[i], feet[j]) > TOLERANCE:
-                out.append(f"{names[i]} and {names[j]} overlap on {names[scene.object(i).on]}")
+                out.append(f"{names[i]} and {names[j]} overlap on {names[host]}")
     return out
 
 

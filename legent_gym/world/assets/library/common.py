@@ -16,6 +16,7 @@ import numpy as np
 
 from legent_gym.world.assets.model import (
     AssetModel,
+    Collision,
     Link,
     Part,
     Receptacle,
@@ -25,6 +26,8 @@ from legent_gym.world.assets.model import (
 
 RGBA = tuple[float, float, float, float]
 Palette = Sequence[tuple[float, float, float]]
+#: The palette constants below: tuples, so that they concatenate (``WOODS + METALS[:1]``).
+Colours = tuple[tuple[float, float, float], ...]
 
 #: Style hints the library uses for ``Part.material``.
 MATERIALS = frozenset({"wood", "fabric", "metal", "plastic", "ceramic", "glass", "food", "paper",
@@ -37,7 +40,7 @@ ROOM_TYPES = frozenset({"bedroom", "living_room", "kitchen", "bathroom", "dining
 # Palettes (linear-ish sRGB in 0..1). Each factory picks from these, with a little jitter,
 # so two variants rarely share an exact colour.
 
-WOODS: Palette = (
+WOODS: Colours = (
     (0.76, 0.60, 0.42),  # oak
     (0.45, 0.30, 0.19),  # walnut
     (0.55, 0.27, 0.17),  # cherry
@@ -47,7 +50,7 @@ WOODS: Palette = (
     (0.62, 0.58, 0.52),  # grey-washed
     (0.92, 0.91, 0.88),  # white painted
 )
-FABRICS: Palette = (
+FABRICS: Colours = (
     (0.55, 0.56, 0.58),  # grey
     (0.28, 0.29, 0.31),  # charcoal
     (0.80, 0.74, 0.62),  # beige
@@ -59,13 +62,13 @@ FABRICS: Palette = (
     (0.90, 0.87, 0.78),  # cream
     (0.33, 0.45, 0.62),  # denim blue
 )
-LEATHERS: Palette = (
+LEATHERS: Colours = (
     (0.42, 0.25, 0.15),  # brown
     (0.65, 0.45, 0.28),  # tan
     (0.12, 0.11, 0.11),  # black
     (0.40, 0.13, 0.12),  # oxblood
 )
-BEDDING: Palette = (
+BEDDING: Colours = (
     (0.95, 0.95, 0.93),  # white
     (0.74, 0.82, 0.90),  # light blue
     (0.70, 0.71, 0.72),  # light grey
@@ -74,26 +77,26 @@ BEDDING: Palette = (
     (0.22, 0.27, 0.42),  # navy
     (0.88, 0.82, 0.68),  # sand
 )
-METALS: Palette = (
+METALS: Colours = (
     (0.72, 0.73, 0.75),  # brushed steel
     (0.85, 0.86, 0.88),  # chrome
     (0.25, 0.25, 0.27),  # gunmetal
     (0.10, 0.10, 0.11),  # black powder coat
     (0.78, 0.64, 0.35),  # brass
 )
-APPLIANCES: Palette = (
+APPLIANCES: Colours = (
     (0.94, 0.94, 0.93),  # white
     (0.76, 0.77, 0.78),  # stainless
     (0.16, 0.16, 0.17),  # black
     (0.86, 0.84, 0.78),  # cream
 )
-COUNTERTOPS: Palette = (
+COUNTERTOPS: Colours = (
     (0.92, 0.91, 0.89),  # white quartz
     (0.20, 0.20, 0.21),  # dark granite
     (0.60, 0.60, 0.60),  # concrete grey
     (0.80, 0.76, 0.70),  # travertine
 )
-CERAMICS: Palette = (
+CERAMICS: Colours = (
     (0.95, 0.95, 0.93),  # white
     (0.90, 0.86, 0.76),  # cream
     (0.60, 0.72, 0.82),  # pale blue
@@ -102,7 +105,7 @@ CERAMICS: Palette = (
     (0.25, 0.26, 0.28),  # charcoal
     (0.92, 0.80, 0.35),  # yellow
 )
-BRIGHT_PLASTICS: Palette = (
+BRIGHT_PLASTICS: Colours = (
     (0.85, 0.15, 0.15),  # red
     (0.15, 0.35, 0.80),  # blue
     (0.20, 0.65, 0.30),  # green
@@ -111,19 +114,19 @@ BRIGHT_PLASTICS: Palette = (
     (0.55, 0.30, 0.70),  # purple
     (0.95, 0.55, 0.70),  # pink
 )
-DARK_PLASTICS: Palette = (
+DARK_PLASTICS: Colours = (
     (0.08, 0.08, 0.09),  # black
     (0.22, 0.22, 0.24),  # dark grey
     (0.55, 0.56, 0.58),  # silver grey
     (0.92, 0.92, 0.91),  # white
 )
-GLASSES: Palette = (
+GLASSES: Colours = (
     (0.78, 0.86, 0.86),  # clear (tinted so it shows)
     (0.25, 0.45, 0.25),  # green
     (0.45, 0.28, 0.12),  # amber
     (0.62, 0.74, 0.88),  # blue
 )
-FOLIAGE: Palette = (
+FOLIAGE: Colours = (
     (0.22, 0.45, 0.20),
     (0.30, 0.55, 0.25),
     (0.16, 0.36, 0.18),
@@ -157,14 +160,14 @@ def shade(rgba: RGBA, factor: float) -> RGBA:
 # Part builders.
 
 
-def block(lo, hi, rgba: RGBA, material: str, *, collision: str = "box") -> Part:
+def block(lo, hi, rgba: RGBA, material: str, *, collision: Collision = "box") -> Part:
     """The axis-aligned box spanning corners ``lo`` .. ``hi`` (12 triangles)."""
     lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
     return box_part((lo + hi) / 2, hi - lo, rgba, collision=collision, material=material)
 
 
 def rod(x: float, y: float, z0: float, z1: float, radius: float, rgba: RGBA, material: str, *,
-        segments: int = 8, radius_top: float | None = None, collision: str = "hull") -> Part:
+        segments: int = 8, radius_top: float | None = None, collision: Collision = "hull") -> Part:
     """A vertical cylinder (or cone frustum) standing from ``z0`` to ``z1`` at (x, y)."""
     return cylinder_part((x, y, (z0 + z1) / 2), radius, z1 - z0, rgba, segments=segments,
                          collision=collision, material=material, radius_top=radius_top)
@@ -186,7 +189,7 @@ def legs(x0: float, x1: float, y0: float, y1: float, z0: float, z1: float, size:
 
 def lathe(profile: Sequence[tuple[float, float]], rgba: RGBA, material: str, *,
           segments: int = 10, center=(0.0, 0.0, 0.0), scale_xy=(1.0, 1.0),
-          collision: str = "hull") -> Part:
+          collision: Collision = "hull") -> Part:
     """A closed surface of revolution about z from a profile of (radius, z) points.
 
     The profile runs from the bottom up the outside (and, for a vessel, back down the
@@ -301,6 +304,12 @@ def top_receptacle(name: str, lo, hi, *, inset: float = 0.03, link: str = "base"
                       ((x1 - x0) / 2 - inset, (y1 - y0) / 2 - inset), z1, link, float(clearance))
 
 
+def _xyz(point: np.ndarray) -> tuple[float, float, float]:
+    """A 3-vector as a tuple of plain floats."""
+    x, y, z = (float(c) for c in point)
+    return x, y, z
+
+
 def _transformed_parts(parts: list[Part], vertices: np.ndarray, matrix: np.ndarray) -> list[Part]:
     """``[p.transformed(matrix) for p in parts]`` for a proper (det > 0) transform, in one
     matrix product over ``vertices`` (the parts' vertices concatenated): row by row the
@@ -331,7 +340,7 @@ def finish(asset_id: str, base: list[Part], *, moving: Sequence[Link] = (),
     move = np.eye(4)
     move[:3, 3] = shift
     out = [Link("base", _transformed_parts(base, base_v, move))]
-    out += [Link(m.name, m.parts, tuple(float(c) for c in np.asarray(m.pos) + shift), m.joint)
+    out += [Link(m.name, m.parts, _xyz(np.asarray(m.pos) + shift), m.joint)
             for m in moving]
     recs = [r if r.link != "base" else
             Receptacle(r.name, (float(r.center[0] + shift[0]), float(r.center[1] + shift[1])),

@@ -114,10 +114,10 @@ def _bent_tube(radii: list[float], arc_radius: float, arc_angle: float, rgba: RG
             a, b = i * sides + k, i * sides + (k + 1) % sides
             faces += [[a, b + sides, a + sides], [a, b, b + sides]]
     for ring, flip in ((0, True), (len(radii) - 1, False)):
-        centre = len(verts)
+        hub = len(verts)  # the cap's centre vertex
         verts.append(np.mean(verts[ring * sides:(ring + 1) * sides], axis=0))
         for k in range(sides):
-            tri = [centre, ring * sides + k, ring * sides + (k + 1) % sides]
+            tri = [hub, ring * sides + k, ring * sides + (k + 1) % sides]
             faces.append(tri[::-1] if flip else tri)
     return Part(np.array(verts), np.array(faces), rgba, "hull", material=material)
 
