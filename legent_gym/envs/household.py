@@ -23,6 +23,7 @@ from legent_gym.envs.action_spaces import (
     text_action_space,
 )
 from legent_gym.envs.episode import Episode, HouseSource, Observing
+from legent_gym.envs.vector import settle_worker
 from legent_gym.tasks.base import Evaluation
 from legent_gym.tasks.household import make_task
 from legent_gym.world.builder import BodyOptions, BuildOptions, World
@@ -121,6 +122,8 @@ class HouseholdEnv(gym.Env):
     * ``episodes_per_house``: consecutive episodes in one built house (default 1: a new
       house every episode); later ones draw new spawns and a new goal, with the house
       restored as built (see :mod:`legent_gym.envs.episode`).
+    * ``pin_worker``: in a vector env's worker process, pin it to one core and render in one
+      thread (default True; see :mod:`legent_gym.envs.vector`).
     * ``depth``, ``segmentation``: add these images to the observation.
     * ``strict``: raise on an invalid action instead of a no-op step.
     * ``reach``: interaction distance in metres (1.5).
@@ -149,7 +152,7 @@ class HouseholdEnv(gym.Env):
                  agent_radius: float = 0.25, agent_height: float = 1.6, camera_height: float = 1.5,
                  distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
-                 episodes_per_house: int = 1):
+                 episodes_per_house: int = 1, pin_worker: bool = True):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -158,6 +161,8 @@ class HouseholdEnv(gym.Env):
             raise ValueError(f"reward must be 'sparse' or 'dense', got {reward!r}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}")
+        #: The core this env's process was pinned to as a vector env's worker (None: not pinned).
+        self.worker_core = settle_worker() if pin_worker else None
         preset = CAMERA_PRESETS[camera]
         self.width = int(width or preset["width"])
         self.height = int(height or preset["height"])
