@@ -203,7 +203,7 @@ class _Options:
     pickupable: bool | None
     mass: float | None
     receptacles: tuple[tuple, ...] | None  # Receptacle fields, in declaration order
-    placement: str | None
+    placement: Placement | None
     rooms: tuple[str, ...]
     max_hull_vertices: int
 
@@ -711,7 +711,7 @@ def _annotations(path: Path, parts: list[Part], opts: _Options) -> AssetModel:
     mass = opts.mass
     if mass is None:
         mass = float(np.clip(DEFAULT_DENSITY * np.prod(size), *MASS_RANGE))
-    placement = opts.placement or ("surface" if pickupable else "wall")
+    placement: Placement = opts.placement or ("surface" if pickupable else "wall")
     if opts.receptacles is not None:
         receptacles = [Receptacle(*fields) for fields in opts.receptacles]
     else:
@@ -726,7 +726,7 @@ def _annotations(path: Path, parts: list[Part], opts: _Options) -> AssetModel:
         pickupable=pickupable,
         mass=mass,
         rooms=list(opts.rooms),
-        placement=placement,  # type: ignore[arg-type]
+        placement=placement,
     )
 
 
