@@ -254,11 +254,11 @@ class _SpecBuilder:
         m.uservert = mesh.vertices.reshape(-1).tolist()
         m.userface = mesh.faces.reshape(-1).tolist()
         m.usernormal = mesh.normals.reshape(-1).tolist()
-        m.userfacenormal = np.repeat(np.arange(mesh.n_faces), 3).tolist()
+        m.userfacenormal = _each_thrice(mesh.n_faces)
         # Each mesh carries only the texels it uses: small meshes compile fast.
-        used, face_texel = np.unique(mesh.texel_indices(self.palette), return_inverse=True)
+        used, face_texel = mesh.palette_texels(self.palette)
         m.usertexcoord = self._palette_uvs[used].reshape(-1).tolist()
-        m.userfacetexcoord = np.repeat(face_texel.reshape(-1), 3).tolist()
+        m.userfacetexcoord = np.repeat(face_texel, 3).tolist()
         m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
         body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material="palette",
                       contype=0, conaffinity=0, group=group, density=0, name=name)
@@ -510,6 +510,13 @@ class _SpecBuilder:
     def _finish_palette(self) -> None:
         if not self.options.naive:
             self._palette_texture.data = styled_palette(self.palette.image(), self._style).tobytes()
+
+
+@lru_cache(maxsize=1024)
+def _each_thrice(n: int) -> list[int]:
+    """[0, 0, 0, 1, 1, 1, ..., n-1]: a flat-shaded mesh's per-corner normal indices (a
+    shared list: MuJoCo copies it)."""
+    return np.repeat(np.arange(n), 3).tolist()
 
 
 # Avatars and door leaves are the same few shapes in every house: one Link object per shape,

@@ -66,20 +66,49 @@ class ColouredMesh:
     faces: np.ndarray  # (M, 3)
     normals: np.ndarray  # (M, 3): one per face, for flat shading
     face_rgb: np.ndarray  # (M, 3) uint8
+    #: The distinct face colours packed as 0xRRGGBB, ascending, and each face's index into
+    #: them: given by :func:`_merged`, which knows them per part; derived when None.
+    colour_codes: np.ndarray | None = field(default=None, compare=False, repr=False)
+    face_colour: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     @property
     def n_faces(self) -> int:
         return len(self.faces)
 
-    def texel_indices(self, palette: Palette) -> np.ndarray:
-        """(M,) palette texel of each face (adds the mesh's colours to the palette)."""
+    def colour_table(self) -> tuple[np.ndarray, np.ndarray]:
+        """(distinct colour codes ascending, (M,) each face's index into them)."""
+        if self.colour_codes is not None and self.face_colour is not None:
+            return self.colour_codes, self.face_colour
         # Colours packed into one integer sort as the (r, g, b) rows do: the same order as
         # np.unique(face_rgb, axis=0), at a fraction of its cost.
-        rgb = self.face_rgb.astype(np.int32)
-        codes, inverse = np.unique((rgb[:, 0] << 16) | (rgb[:, 1] << 8) | rgb[:, 2], return_inverse=True)
+        codes, inverse = np.unique(_packed(self.face_rgb), return_inverse=True)
+        return codes, inverse.reshape(-1)
+
+    def _texel_lookup(self, palette: Palette) -> tuple[np.ndarray, np.ndarray]:
+        codes, face_colour = self.colour_table()
         lookup = np.array([palette.index_rgb8((c >> 16, (c >> 8) & 255, c & 255)) for c in codes.tolist()],
                           dtype=np.int32)
-        return lookup[inverse.reshape(-1)]
+        return lookup, face_colour
+
+    def texel_indices(self, palette: Palette) -> np.ndarray:
+        """(M,) palette texel of each face (adds the mesh's colours to the palette, in the
+        order of their codes)."""
+        lookup, face_colour = self._texel_lookup(palette)
+        return lookup[face_colour]
+
+    def palette_texels(self, palette: Palette) -> tuple[np.ndarray, np.ndarray]:
+        """``np.unique(self.texel_indices(palette), return_inverse=True)``: the texels the
+        mesh uses, ascending, and each face's index into them; computed on the few distinct
+        colours rather than on every face."""
+        lookup, face_colour = self._texel_lookup(palette)
+        used = np.unique(lookup)
+        return used, np.searchsorted(used, lookup)[face_colour]
+
+
+def _packed(rgb8: np.ndarray) -> np.ndarray:
+    """(..., 3) uint8 colours as 0xRRGGBB integers."""
+    rgb = rgb8.astype(np.int32)
+    return (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
 
 
 def face_normals(vertices: np.ndarray, faces: np.ndarray) -> np.ndarray:
@@ -199,13 +228,16 @@ def link_geometry(link, movable: bool, *, cache: bool = True) -> LinkGeometry:
 
 def _merged(parts: list[Part]) -> ColouredMesh:
     """The parts as one mesh, each face coloured by its part: what adding them one by one
-    to a :class:`MeshAccumulator` builds, in a few array operations."""
+    to a :class:`MeshAccumulator` builds, in a few array operations. Every part has faces."""
     v = np.concatenate([p.vertices for p in parts])
     n_faces = [len(p.faces) for p in parts]
     starts = np.cumsum([0] + [len(p.vertices) for p in parts[:-1]]).astype(np.int32)
     f = np.concatenate([p.faces for p in parts]) + np.repeat(starts, n_faces)[:, None]
-    rgb = np.repeat(np.stack([_rgb8_of(tuple(p.rgba)) for p in parts]), n_faces, axis=0)
-    return ColouredMesh(v, f, face_normals(v, f), rgb)
+    part_rgb = to_rgb8([tuple(p.rgba)[:3] for p in parts])  # row by row what _rgb8_of gives
+    rgb = np.repeat(part_rgb, n_faces, axis=0)
+    # One colour per part: the faces' distinct colours are the parts' distinct colours.
+    codes, part_colour = np.unique(_packed(part_rgb), return_inverse=True)
+    return ColouredMesh(v, f, face_normals(v, f), rgb, codes, np.repeat(part_colour.reshape(-1), n_faces))
 
 
 # ---------------------------------------------------------------------------------------

@@ -508,7 +508,12 @@ class NavGrid:
             # point's x depends on the column only and its y on the row only.
             nx, ny = separable
             within = np.hypot((nx - xs[0])[None, :], (ny - ys[:, 0])[:, None])
-            rr, cc = np.nonzero(sub & (within <= reach))
+            near = sub & (within <= reach)
+            if first_only:
+                hit = self._nearest_if_in_sight(near, within, nx, ny, xs, ys, sl)
+                if hit is not None:
+                    return hit
+            rr, cc = np.nonzero(near)
             if len(rr) == 0:
                 return empty
             px, py, dist = xs[0, cc], ys[rr, 0], within[rr, cc]
@@ -554,12 +559,38 @@ class NavGrid:
         keep = order[in_sight]
         return np.column_stack([rr[keep] + sl[0].start, cc[keep] + sl[1].start]), dist[keep]
 
+    def _nearest_if_in_sight(self, near: np.ndarray, within: np.ndarray, nx: np.ndarray, ny: np.ndarray,
+                             xs: np.ndarray, ys: np.ndarray, sl) -> tuple[np.ndarray, np.ndarray] | None:
+        """:meth:`reach_cells`'s answer with ``first_only`` for an axis-aligned footprint
+        when its nearest candidate is in sight (usually so), found without sorting them
+        all: the first minimum in row-major order is what the stable sort puts first.
+        None when there is no candidate or the nearest is not in sight (the caller then
+        looks further)."""
+        k = int(np.argmin(np.where(near, within, np.inf)))
+        r, c = divmod(k, near.shape[1])
+        if not near[r, c]:
+            return None
+        if not _segment_clear(self._open_mask(), *self._sight_segment(float(xs[0, c]), float(ys[r, 0]),
+                                                                     float(nx[c]), float(ny[r]))):
+            return None
+        return np.array([[r + sl[0].start, c + sl[1].start]]), within[r, c:c + 1].copy()
+
     def _component_mask(self, component: int) -> np.ndarray:
         """Walkable cells of one connected component (cached per component)."""
         mask = self._component_masks.get(component)
         if mask is None:
             mask = self._component_masks[component] = self.walkable & (self.labels == component)
         return mask
+
+    def _sight_segment(self, px: float, py: float, qx: float, qy: float) -> tuple[float, float, float, float]:
+        """:meth:`_sight_segments` of one cell centre and its nearest point (qx, qy), in
+        scalar arithmetic (the same operations, so the same floats): (ax, ay, bx, by)."""
+        ox, oy, res = self.origin[0], self.origin[1], self.resolution
+        ax, ay = (px - ox) / res, (py - oy) / res
+        bx, by = (qx - ox) / res, (qy - oy) / res
+        dx, dy = ax - bx, ay - by
+        pull = min(1.0, 1.5 / max(float(np.hypot(dx, dy)), 1e-9))
+        return ax, ay, bx + dx * pull, by + dy * pull
 
     def _sight_segments(self, px: np.ndarray, py: np.ndarray, nearest: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Grid-coordinate segments from cell centres (px, py) toward their nearest points on

@@ -4,7 +4,10 @@ Speed on a CPU (Mesa llvmpipe through EGL) comes from six choices, measured in
 ``benchmarks/render.py``:
 
 * one OpenGL context per process, shared by every renderer (creating one costs hundreds of
-  milliseconds; a new house then only pays for a new ``MjrContext``, a few milliseconds);
+  milliseconds); and a closed renderer's ``MjrContext`` and ``MjvScene`` are kept for the
+  next renderer of the thread, which re-uploads only its model's meshes, textures and
+  material table into them (a new house then pays about a millisecond instead of four
+  for making and three for freeing them);
 * the ``fast`` profile: no shadows, reflections or multisampling, and an offscreen buffer
   the size of the image;
 * the builder's merged, palette-coloured meshes (few draw calls, few triangles);
@@ -100,6 +103,94 @@ def _current_check(ctx):
     return is_current
 
 
+#: Font scale of every renderer's context (the smallest: renderers draw no text).
+FONT_SCALE = mujoco.mjtFontScale.mjFONTSCALE_50
+
+
+def _context_key(model: mujoco.MjModel) -> tuple | None:
+    """What a ``MjrContext`` made for ``model`` holds apart from the model's meshes,
+    textures, material table and a few scalars (which :func:`_retarget` rewrites): the
+    offscreen and shadow buffers, the fonts and the built-in shapes. Two models with the
+    same key can share a context. None for models whose contexts hold more (planes, height
+    fields, skins, skyboxes are made per model): such contexts are never reused."""
+    # (Enum members compared as ints: numpy compares an array with a MuJoCo enum object by
+    # object, a hundred times slower.)
+    if model.nhfield or model.nskin or model.nflex or (model.geom_type == int(mujoco.mjtGeom.mjGEOM_PLANE)).any():
+        return None
+    if (model.tex_type != int(mujoco.mjtTexture.mjTEXTURE_2D)).any():
+        return None
+    vis = model.vis
+    quality = vis.quality
+    return (vis.global_.offwidth, vis.global_.offheight, quality.offsamples, quality.shadowsize,
+            quality.numslices, quality.numstacks, quality.numquads, float(vis.map.haze),
+            tuple(vis.rgba.haze.tolist()), int(model.ntex))
+
+
+def _retarget(context: mujoco.MjrContext, model: mujoco.MjModel) -> None:
+    """Make a context made for another model of the same :func:`_context_key` draw
+    ``model``: what ``mjr_makeContext`` takes from the model, set again (its scalars, the
+    material table, the textures, the meshes' display lists)."""
+    stat, vis = model.stat, model.vis
+    context.shadowClip = stat.extent * vis.map.shadowclip
+    context.shadowScale = vis.map.shadowscale
+    context.fogStart = stat.extent * vis.map.fogstart
+    context.fogEnd = stat.extent * vis.map.fogend
+    context.fogRGBA[:] = vis.rgba.fog
+    context.lineWidth = vis.global_.linewidth
+    roles = mujoco.mjtTextureRole.mjNTEXROLE
+    context.mat_texid[:] = -1
+    context.mat_texuniform[:] = 0
+    context.mat_texrepeat[:] = 0
+    for i in np.flatnonzero(model.mat_texid[:, mujoco.mjtTextureRole.mjTEXROLE_RGB] >= 0).tolist():
+        context.mat_texid[i * roles:(i + 1) * roles] = model.mat_texid[i]
+        context.mat_texuniform[i] = model.mat_texuniform[i]
+        context.mat_texrepeat[2 * i:2 * i + 2] = model.mat_texrepeat[i]
+    for i in range(model.ntex):
+        context.textureType[i] = model.tex_type[i]
+        mujoco.mjr_uploadTexture(model, context, i)
+    for i in range(model.nmesh):
+        mujoco.mjr_uploadMesh(model, context, i)
+
+
+def _scene_size(model: mujoco.MjModel) -> int:
+    return max(1000, model.ngeom + 100)
+
+
+def _keep_spare(key: tuple | None, context: mujoco.MjrContext, scene: mujoco.MjvScene) -> None:
+    """Keep a closed renderer's context and scene for the next renderer of this thread
+    (one pair is kept: the one that holds the most meshes; the other is freed)."""
+    spare = getattr(_local, "spare", None)
+    if key is None or (spare is not None and spare[0] == key and spare[1].rangeMesh > context.rangeMesh):
+        context.free()
+        return
+    if spare is not None:
+        spare[1].free()
+    _local.spare = (key, context, scene)
+
+
+def _take_spare(key: tuple | None, model: mujoco.MjModel):
+    """The kept (context, scene) if they can draw ``model``, retargeted to it; else None."""
+    spare = getattr(_local, "spare", None)
+    if key is None or spare is None or spare[0] != key:
+        return None
+    _, context, scene = spare
+    if context.rangeMesh < 2 * model.nmesh or scene.maxgeom < _scene_size(model):
+        return None
+    _local.spare = None
+    _retarget(context, model)
+    scene.flags[:] = _local.scene_flags  # as a new scene has them
+    return context, scene
+
+
+def free_spare() -> None:
+    """Free the context and scene kept for the next renderer of this thread, if any."""
+    spare = getattr(_local, "spare", None)
+    if spare is not None:
+        _local.spare = None
+        _shared_gl_context(64, 64)
+        spare[1].free()
+
+
 class Renderer:
     """Renders a :class:`World` at one image size and profile.
 
@@ -110,6 +201,7 @@ class Renderer:
 
     def __init__(self, world: World, width: int = 96, height: int = 96, profile: Profile = "fast"):
         self._context: mujoco.MjrContext | None = None  # first: __del__ runs even if we raise below
+        self._key: tuple | None = None  # what its context can be shared by (see _context_key)
         if width < 1 or height < 1:
             raise ValueError(f"image size must be positive, got {width}x{height}")
         if profile not in ("fast", "pretty"):
@@ -151,12 +243,19 @@ class Renderer:
         else:
             vis.quality.shadowsize = 0
             vis.quality.offsamples = 0
-        self._context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_50)
+        self._key = _context_key(model)
+        kept = _take_spare(self._key, model)
+        if kept is None:
+            self._context = mujoco.MjrContext(model, FONT_SCALE)
+            self._scene = mujoco.MjvScene(model, maxgeom=_scene_size(model))
+            if getattr(_local, "scene_flags", None) is None:
+                _local.scene_flags = self._scene.flags.copy()
+        else:
+            self._context, self._scene = kept
         mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
         _local.bound = self._context
         self._context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
-        self._scene = mujoco.MjvScene(model, maxgeom=max(1000, model.ngeom + 100))
-        self._segmented = False  # a new scene has the default flags
+        self._segmented = False  # a new (or reset) scene has the default flags
         fast = self.profile == "fast"
         flags = self._scene.flags
         flags[mujoco.mjtRndFlag.mjRND_SHADOW] = not fast
@@ -166,10 +265,12 @@ class Renderer:
         self._option.geomgroup[GROUP_COLLISION] = 0
 
     def close(self) -> None:
+        """Release the renderer's GL resources (kept for the next renderer of this thread:
+        see :func:`free_spare`)."""
         if self._context is not None:
             try:
                 _shared_gl_context(self.width, self.height)
-                self._context.free()
+                _keep_spare(self._key, self._context, self._scene)
             except Exception:  # the GL context may already be gone at interpreter exit
                 pass
             if getattr(_local, "bound", None) is self._context:

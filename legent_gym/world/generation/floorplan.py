@@ -17,6 +17,8 @@ joined by an open archway (a door without a leaf).
 
 from __future__ import annotations
 
+import bisect
+import itertools
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -117,62 +119,97 @@ def sample_outline(total: int, rng: np.random.Generator, *, single_wide: bool = 
 def corner_count(mask: np.ndarray) -> int:
     """Vertices of the outline of a cell set (4: rectangle, 6: L); 99 if it pinches at a
     corner (two cells touching only diagonally)."""
-    p = np.zeros((mask.shape[0] + 2, mask.shape[1] + 2), dtype=np.int8)  # np.pad's zero border, cheaper
-    p[1:-1, 1:-1] = mask
-    a, b, c, d = p[:-1, :-1], p[:-1, 1:], p[1:, :-1], p[1:, 1:]
-    s = a + b + c + d
-    if ((s == 2) & (a == d)).any():
-        return 99
-    return int(((s == 1) | (s == 3)).sum())
+    return _corners(set(map(tuple, np.argwhere(mask).tolist())))
 
 
-def _seed_rooms(grid: np.ndarray, targets: list[int], rng: np.random.Generator) -> None:
-    """One seed cell per room, spread apart (largest rooms first)."""
-    seeds: list[tuple[int, int]] = []
+def _corners(cells: set[tuple[int, int]]) -> int:
+    """:func:`corner_count` of the cells ``(row, col)``: each 2x2 window of the padded mask
+    with one or three cells set is a vertex; one with a diagonal pair a pinch. Windows away
+    from the cells hold none, so only those around their bounding box are looked at."""
+    rows = [r for r, _ in cells]
+    cols = [c for _, c in cells]
+    count = 0
+    for y in range(min(rows) - 1, max(rows) + 1):
+        for x in range(min(cols) - 1, max(cols) + 1):
+            a, b = (y, x) in cells, (y, x + 1) in cells
+            c, d = (y + 1, x) in cells, (y + 1, x + 1) in cells
+            n = a + b + c + d
+            if n == 2 and a == d:
+                return 99
+            count += n == 1 or n == 3
+    return count
+
+
+def _weighted_choice(rng: np.random.Generator, p: list[float]) -> int:
+    """:func:`choice_p` of a list of probabilities, in scalar arithmetic: the same running
+    sum, the same division by its last value, the same search, so the same draw."""
+    cdf = list(itertools.accumulate(p))
+    last = cdf[-1]
+    return bisect.bisect_right([c / last for c in cdf], rng.random())
+
+
+# The growth below works on a list-of-lists grid and per-room cell sets: the grids are a
+# few cells across, where numpy's per-call cost outweighs its loops many times over. Every
+# random draw is the one the array version makes, in the same order.
+
+
+def _free_cells(grid: list[list[int]]) -> list[tuple[int, int]]:
+    """FREE cells in row-major order (``np.argwhere``'s)."""
+    return [(r, c) for r, row in enumerate(grid) for c, v in enumerate(row) if v == FREE]
+
+
+def _seed_rooms(grid: list[list[int]], targets: list[int], rng: np.random.Generator) -> list[tuple[int, int]]:
+    """One seed cell per room, spread apart (largest rooms first); the seeds by room."""
+    seeds: dict[int, tuple[int, int]] = {}
     for i in sorted(range(len(targets)), key=lambda k: (-targets[k], k)):
-        cells = np.argwhere(grid == FREE)
-        if len(cells) == 0:
+        cells = _free_cells(grid)
+        if not cells:
             raise PlanFailed("more rooms than cells")
         if seeds:
-            s = np.asarray(seeds)
-            spread = np.abs(cells[:, None, :] - s[None, :, :]).sum(axis=2).min(axis=1)
-            pick = int(np.argmax(spread + rng.random(len(cells)) * 1.5))
+            noise = rng.random(len(cells)).tolist()
+            placed = list(seeds.values())
+            # Manhattan distance to the nearest seed, plus noise: an int plus a float, as
+            # numpy adds an int array to a float one.
+            spread = [min(abs(r - sr) + abs(c - sc) for sr, sc in placed) + u * 1.5
+                      for (r, c), u in zip(cells, noise)]
+            pick = spread.index(max(spread))  # the first maximum, as np.argmax
         else:
             pick = int(rng.integers(len(cells)))
         r, c = cells[pick]
-        grid[r, c] = i
-        seeds.append((int(r), int(c)))
+        grid[r][c] = i
+        seeds[i] = (r, c)
+    return [seeds[i] for i in range(len(targets))]
 
 
-def _grow_rectangles(grid: np.ndarray, targets: list[int], rng: np.random.Generator) -> None:
+def _grow_rectangles(grid: list[list[int]], targets: list[int], seeds: list[tuple[int, int]],
+                     rng: np.random.Generator) -> None:
     """Grow each room's rectangle a row or column at a time toward its target size."""
-    h, w = grid.shape
-    rects = {}
-    for i in range(len(targets)):
-        (r, c), = np.argwhere(grid == i)
-        rects[i] = [int(r), int(c), int(r) + 1, int(c) + 1]
+    h, w = len(grid), len(grid[0])
+    rects = {i: [r, c, r + 1, c + 1] for i, (r, c) in enumerate(seeds)}
     area = [1] * len(targets)
     active = [i for i in range(len(targets)) if area[i] < targets[i]]
     while active:
-        deficit = np.array([targets[i] - area[i] for i in active], dtype=np.float64)
-        i = active[choice_p(rng, deficit / deficit.sum())]
+        deficit = [float(targets[i] - area[i]) for i in active]
+        total = sum(deficit)  # whole numbers: exact in any order, as numpy's sum
+        i = active[_weighted_choice(rng, [d / total for d in deficit])]
         r0, c0, r1, c1 = rects[i]
         grown = False
-        for d in rng.permutation(4):
-            dr, dc = _DIRS[int(d)]
+        for d in rng.permutation(4).tolist():
+            dr, dc = _DIRS[d]
             if dr:
                 row = r1 if dr > 0 else r0 - 1
                 if not 0 <= row < h:
                     continue
-                line = grid[row, c0:c1]
+                line = [(row, c) for c in range(c0, c1)]
             else:
                 col = c1 if dc > 0 else c0 - 1
                 if not 0 <= col < w:
                     continue
-                line = grid[r0:r1, col]
-            if not (line == FREE).all() or area[i] + len(line) > targets[i] + 1:
+                line = [(r, col) for r in range(r0, r1)]
+            if any(grid[r][c] != FREE for r, c in line) or area[i] + len(line) > targets[i] + 1:
                 continue
-            line[:] = i
+            for r, c in line:
+                grid[r][c] = i
             area[i] += len(line)
             rects[i] = [r0 - (dr < 0), c0 - (dc < 0), r1 + (dr > 0), c1 + (dc > 0)]
             grown = True
@@ -181,67 +218,63 @@ def _grow_rectangles(grid: np.ndarray, targets: list[int], rng: np.random.Genera
             active.remove(i)
 
 
-def _fill_free(grid: np.ndarray, targets: list[int], rng: np.random.Generator) -> None:
+def _fill_free(grid: list[list[int]], targets: list[int], rng: np.random.Generator) -> None:
     """Give every remaining free cell to a neighbouring room, keeping rooms rectangles or
     L-shapes; rooms short of their target are preferred."""
-    h, w = grid.shape
+    h, w = len(grid), len(grid[0])
+    members: dict[int, set[tuple[int, int]]] = {}
+    for r, row in enumerate(grid):
+        for c, v in enumerate(row):
+            if v >= 0:
+                members.setdefault(v, set()).add((r, c))
     while True:
-        free = np.argwhere(grid == FREE)
-        if len(free) == 0:
+        free = _free_cells(grid)
+        if not free:
             return
         options, weights = [], []
         for r, c in free:
-            rooms = sorted({int(grid[r + dr, c + dc]) for dr, dc in _DIRS
-                            if 0 <= r + dr < h and 0 <= c + dc < w and grid[r + dr, c + dc] >= 0})
+            rooms = sorted({grid[r + dr][c + dc] for dr, dc in _DIRS
+                            if 0 <= r + dr < h and 0 <= c + dc < w and grid[r + dr][c + dc] >= 0})
             for i in rooms:
-                mask = grid == i
-                mask[r, c] = True
-                corners = corner_count(mask)
+                cells = members[i] | {(r, c)}
+                corners = _corners(cells)
                 if corners > 6:
                     continue
-                short = max(0, targets[i] - int(mask.sum()) + 1)
-                options.append((int(r), int(c), i))
+                short = max(0, targets[i] - len(cells) + 1)
+                options.append((r, c, i))
                 weights.append(1.0 + 3.0 * short + (2.0 if corners == 4 else 0.0))
         if not options:
             raise PlanFailed("a free cell cannot join any room as a rectangle or L")
-        p = np.asarray(weights) / sum(weights)
-        r, c, i = options[choice_p(rng, p)]
-        grid[r, c] = i
+        total = sum(weights)
+        r, c, i = options[_weighted_choice(rng, [x / total for x in weights])]
+        grid[r][c] = i
+        members[i].add((r, c))
 
 
 def grow_rooms(inside: np.ndarray, targets: list[int], rng: np.random.Generator) -> np.ndarray:
     """One candidate: room index per cell (OUT outside the house)."""
-    grid = np.where(inside, FREE, OUT).astype(np.int64)
-    _seed_rooms(grid, targets, rng)
-    _grow_rectangles(grid, targets, rng)
+    grid = [[FREE if v else OUT for v in row] for row in inside.tolist()]
+    seeds = _seed_rooms(grid, targets, rng)
+    _grow_rectangles(grid, targets, seeds, rng)
     _fill_free(grid, targets, rng)
-    return grid
-
-
-def adjacent_pairs(grid: np.ndarray) -> set[tuple[int, int]]:
-    pairs = set()
-    for a, b in ((grid[:-1, :], grid[1:, :]), (grid[:, :-1], grid[:, 1:])):
-        m = (a != b) & (a >= 0) & (b >= 0)
-        for x, y in zip(a[m].tolist(), b[m].tolist()):
-            pairs.add((min(x, y), max(x, y)))
-    return pairs
-
-
-def touches_exterior(grid: np.ndarray, i: int) -> bool:
-    """Whether a cell of room ``i`` has a 4-neighbour outside the house (or the grid)."""
-    out = np.full((grid.shape[0] + 2, grid.shape[1] + 2), True)
-    out[1:-1, 1:-1] = grid == OUT
-    near_out = out[:-2, 1:-1] | out[2:, 1:-1] | out[1:-1, :-2] | out[1:-1, 2:]
-    return bool(((grid == i) & near_out).any())
+    return np.array(grid, dtype=np.int64)
 
 
 def score_plan(grid: np.ndarray, targets: list[int], types: list[str]) -> float:
     """Lower is better: size error per room, plus penalties for implausible layouts."""
+    cells = grid.tolist()
+    h, w = len(cells), len(cells[0])
+    by_room: dict[int, list[tuple[int, int]]] = {}
+    for r, row in enumerate(cells):
+        for c, v in enumerate(row):
+            by_room.setdefault(v, []).append((r, c))
     score = 0.0
     for i, (t, rtype) in enumerate(zip(targets, types)):
-        rr, cc = np.nonzero(grid == i)
-        a = len(rr)
-        bh, bw = int(rr.max() - rr.min() + 1), int(cc.max() - cc.min() + 1)
+        mine = by_room[i]
+        a = len(mine)
+        rr = [r for r, _ in mine]
+        cc = [c for _, c in mine]
+        bh, bw = max(rr) - min(rr) + 1, max(cc) - min(cc) + 1
         if a < ROOM_TYPES[rtype].cells[0]:
             return np.inf  # smaller than any room of its type
         score += abs(a - t) / t
@@ -253,7 +286,9 @@ def score_plan(grid: np.ndarray, targets: list[int], types: list[str]) -> float:
             score -= 0.3
         if max(bh, bw) > 3 * min(bh, bw):
             score += 0.5
-    pairs = adjacent_pairs(grid)
+    pairs = {(min(x, y), max(x, y)) for r, row in enumerate(cells) for c, x in enumerate(row)
+             for y in (cells[r + 1][c] if r + 1 < h else OUT, row[c + 1] if c + 1 < w else OUT)
+             if x != y and x >= 0 and y >= 0}
 
     def neighbours(i: int) -> set[str]:
         return {types[b if a == i else a] for a, b in pairs if i in (a, b)}
@@ -267,7 +302,14 @@ def score_plan(grid: np.ndarray, targets: list[int], types: list[str]) -> float:
             score += 0.5
         if rtype == "hallway":
             score -= 0.25 * len(near)
-    if len(types) > 1 and not any(ROOM_TYPES[t].public and touches_exterior(grid, i) for i, t in enumerate(types)):
+
+    def outdoors(r: int, c: int) -> bool:
+        return not (0 <= r < h and 0 <= c < w) or cells[r][c] == OUT
+
+    def touches_outside(i: int) -> bool:
+        return any(outdoors(r + dr, c + dc) for r, c in by_room[i] for dr, dc in _DIRS)
+
+    if len(types) > 1 and not any(ROOM_TYPES[t].public and touches_outside(i) for i, t in enumerate(types)):
         score += 2.0
     return score
 

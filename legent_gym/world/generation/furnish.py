@@ -520,10 +520,11 @@ class Furnisher:
         Returns (C,) whether every member of the candidate group fits."""
         c, m = rects.shape[:2]
         flat = rects.reshape(-1, 4)
-        ok = rects_in_polygon(flat, space.inner)
         fr = fronts.reshape(-1, 4)
         has_front = fr[:, 2] > fr[:, 0]
-        ok &= ~has_front | rects_in_polygon(np.where(has_front[:, None], fr, flat), space.inner)
+        # Footprints and front zones tested in one call (row by row the same test).
+        inside = rects_in_polygon(np.concatenate([flat, np.where(has_front[:, None], fr, flat)]), space.inner)
+        ok = inside[:len(flat)] & (~has_front | inside[len(flat):])
         others = [self.pieces[k] for k in space.pieces if self.pieces[k].on_floor]
         if others:
             feet = np.array([p.rect for p in others])
