@@ -301,24 +301,15 @@ def polygon_centroid(polygon: Sequence[Sequence[float]] | np.ndarray) -> np.ndar
 def inside_polygon(x: np.ndarray, y: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Booleans, of ``x`` and ``y`` broadcast together: points inside the polygon (M, 2), by
     the even-odd rule."""
-    xa, ya, xb, yb = _slanted_edges(poly)
-    x, y = np.asarray(x)[..., None], np.asarray(y)[..., None]
-    # Every edge at once (a last axis over edges): per element the arithmetic of an edge
-    # by edge loop, and the parity of the crossings is what XOR-ing them gives.
-    crosses = (ya > y) != (yb > y)
-    x_at = xa + (y - ya) * (xb - xa) / (yb - ya)
-    inside = np.count_nonzero(crosses & (x < x_at), axis=-1) % 2 == 1
-    shape = np.broadcast_shapes(x.shape[:-1], y.shape[:-1])
-    return inside if inside.shape == shape else np.broadcast_to(inside, shape).copy()
-
-
-def _slanted_edges(poly: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """(xa, ya, xb, yb) of a polygon's edges that are not horizontal (the only ones a
-    horizontal ray from a point can cross), each (E,)."""
     poly = np.asarray(poly, dtype=np.float64)
-    nxt = np.roll(poly, -1, axis=0)
-    keep = poly[:, 1] != nxt[:, 1]
-    return poly[keep, 0], poly[keep, 1], nxt[keep, 0], nxt[keep, 1]
+    inside = np.zeros(np.broadcast_shapes(np.shape(x), np.shape(y)), dtype=bool)
+    for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
+        if ya == yb:
+            continue
+        crosses = (ya > y) != (yb > y)
+        x_at = xa + (y - ya) * (xb - xa) / (yb - ya)
+        inside ^= crosses & (x < x_at)
+    return inside
 
 
 def points_in_polygon(pts: np.ndarray, poly: np.ndarray) -> np.ndarray:

@@ -191,10 +191,27 @@ _BOX_FACES = np.array([
 
 def box_part(center, size, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="box", material="plain") -> Part:
     """An axis-aligned box, 12 triangles."""
-    c = np.asarray(center, dtype=np.float64)
-    h = np.asarray(size, dtype=np.float64) / 2.0
-    v = c + _BOX_CORNERS * h
-    return Part(v, _BOX_FACES.copy(), tuple(rgba), collision, material=material)
+    cx, cy, cz = (float(c) for c in center)
+    hx, hy, hz = (float(d) / 2.0 for d in size)
+    return Part(box_vertices(cx, cy, cz, hx, hy, hz), _BOX_FACES.copy(), tuple(rgba), collision, material=material)
+
+
+def box_between(lo, hi, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="box", material="plain") -> Part:
+    """The axis-aligned box spanning corners ``lo`` .. ``hi``: ``box_part((lo + hi) / 2,
+    hi - lo, ...)``, in scalar arithmetic."""
+    (x0, y0, z0), (x1, y1, z1) = (float(v) for v in lo), (float(v) for v in hi)
+    vertices = box_vertices((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2,
+                            (x1 - x0) / 2.0, (y1 - y0) / 2.0, (z1 - z0) / 2.0)
+    return Part(vertices, _BOX_FACES.copy(), tuple(rgba), collision, material=material)
+
+
+def box_vertices(cx: float, cy: float, cz: float, hx: float, hy: float, hz: float) -> np.ndarray:
+    """The corners (in ``_BOX_CORNERS`` order) of the box centred at (cx, cy, cz) with half
+    sizes (hx, hy, hz): ``c + _BOX_CORNERS * h`` in scalar arithmetic (``c + (-1 * h)`` is
+    ``c - h`` to the bit), which costs a fraction of the array expression for one box."""
+    x0, x1, y0, y1, z0, z1 = cx - hx, cx + hx, cy - hy, cy + hy, cz - hz, cz + hz
+    return np.array([[x0, y0, z0], [x0, y0, z1], [x0, y1, z0], [x0, y1, z1],
+                     [x1, y0, z0], [x1, y0, z1], [x1, y1, z0], [x1, y1, z1]])
 
 
 @lru_cache(maxsize=64)

@@ -119,7 +119,7 @@ def sample_outline(total: int, rng: np.random.Generator, *, single_wide: bool = 
 def corner_count(mask: np.ndarray) -> int:
     """Vertices of the outline of a cell set (4: rectangle, 6: L); 99 if it pinches at a
     corner (two cells touching only diagonally)."""
-    return _corners(set(map(tuple, np.argwhere(mask).tolist())))
+    return _corners({(r, c) for r, c in np.argwhere(mask).tolist()})
 
 
 def _corners(cells: set[tuple[int, int]]) -> int:

@@ -20,7 +20,7 @@ from legent_gym.world.assets.model import (
     Link,
     Part,
     Receptacle,
-    box_part,
+    box_between,
     cylinder_part,
 )
 
@@ -162,8 +162,7 @@ def shade(rgba: RGBA, factor: float) -> RGBA:
 
 def block(lo, hi, rgba: RGBA, material: str, *, collision: Collision = "box") -> Part:
     """The axis-aligned box spanning corners ``lo`` .. ``hi`` (12 triangles)."""
-    lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
-    return box_part((lo + hi) / 2, hi - lo, rgba, collision=collision, material=material)
+    return box_between(lo, hi, rgba, collision=collision, material=material)
 
 
 def rod(x: float, y: float, z0: float, z1: float, radius: float, rgba: RGBA, material: str, *,
