@@ -25,6 +25,7 @@ caller that keeps them in that order gets the same whatever the number of worker
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import multiprocessing.context
 import os
@@ -98,8 +99,9 @@ def _counted(results: Iterator[Any], progress: bool | str, total: int | None) ->
 def _in_workers(fn, calls, workers, initializer, initargs, ahead, pin) -> Iterator[Any]:
     ctx = mp_context()
     cores = sorted(os.sched_getaffinity(0)) if pin and hasattr(os, "sched_setaffinity") else []
+    crew = _Crew(ctx, workers, cores)
     pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_start_worker,
-                               initargs=(os.getpid(), cores, ctx.Value("i", 0), initializer, initargs))
+                               initargs=(os.getpid(), crew, initializer, initargs))
     pending: deque = deque()
     calls = iter(calls)
     finished = False
@@ -119,7 +121,7 @@ def _in_workers(fn, calls, workers, initializer, initargs, ahead, pin) -> Iterat
         if finished:
             pool.shutdown(wait=True)
         else:
-            _stop(pool)
+            _stop(pool, crew)
 
 
 def _wait_for_first(pending: deque) -> None:
@@ -132,36 +134,50 @@ def _wait_for_first(pending: deque) -> None:
                 future.result()
 
 
-def _stop(pool: ProcessPoolExecutor) -> None:
+class _Crew:
+    """What the workers of one pool share with this process: how many have started (worker
+    k takes core k), their pids (to stop them) and a stop flag (for one still starting)."""
+
+    def __init__(self, ctx: multiprocessing.context.BaseContext, workers: int, cores: list[int]):
+        self.cores = cores
+        self.started = ctx.Value("i", 0)
+        self.pids = ctx.Array("i", workers)
+        self.stopped = ctx.Event()
+
+
+def _stop(pool: ProcessPoolExecutor, crew: _Crew) -> None:
     """Cancel what has not started and end the workers now: a running call may take minutes
-    (a training run), and what it would return is not wanted any more."""
-    if hasattr(pool, "terminate_workers"):  # Python >= 3.14
-        pool.terminate_workers()
-        return
-    processes = list((pool._processes or {}).values())
-    manager = pool._executor_manager_thread
-    pool.shutdown(wait=False, cancel_futures=True)
-    for process in processes:
-        if process.is_alive():
-            process.terminate()
-    for process in processes:
-        process.join()
-    if manager is not None:
-        manager.join()  # it sees the workers gone, fails what was running and stops
+    (a training run), and what it would return is not wanted any more. Every worker goes,
+    not only the busy ones: one killed while reading the pool's queue of calls leaves its
+    lock taken, and the others would wait for it forever."""
+    with crew.started.get_lock():  # a worker that starts after this sees the flag and leaves
+        crew.stopped.set()
+        pids = [pid for pid in crew.pids[:] if pid]
+    for pid in pids:
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(pid, signal.SIGTERM)
+    # The pool sees its workers gone, fails what was running and stops.
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 # -- in the worker ---------------------------------------------------------------------------
 _init_error: BaseException | None = None
 
 
-def _start_worker(parent_pid: int, cores: list[int], counter, initializer, initargs) -> None:
+def _start_worker(parent_pid: int, crew: _Crew, initializer, initargs) -> None:
+    global _init_error
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the parent handles Ctrl-C and stops us
     threading.Thread(target=_exit_with, args=(parent_pid,), daemon=True, name="parent-watch").start()
-    if cores:
-        with counter.get_lock():
-            index = counter.value
-            counter.value += 1
-        os.sched_setaffinity(0, {cores[index % len(cores)]})
+    with crew.started.get_lock():
+        stopped = crew.stopped.is_set()
+        index = crew.started.value
+        if not stopped and index < len(crew.pids):
+            crew.started.value += 1
+            crew.pids[index] = os.getpid()
+    if stopped:
+        os._exit(0)  # the parent stopped the pool while this worker was starting
+    if crew.cores:
+        os.sched_setaffinity(0, {crew.cores[index % len(crew.cores)]})
         # llvmpipe sizes its thread pool to the cores it may use (one now); say so for a
         # Mesa that does not look at the affinity. Same images either way.
         os.environ.setdefault("LP_NUM_THREADS", "0")
@@ -169,7 +185,6 @@ def _start_worker(parent_pid: int, cores: list[int], counter, initializer, inita
         try:
             initializer(*initargs)
         except Exception as err:  # raised by every call, so the parent sees the message
-            global _init_error
             _init_error = err
 
 
