@@ -1,9 +1,7 @@
-"""Pick an OpenGL backend for MuJoCo before anything imports it.
-
-MuJoCo reads ``MUJOCO_GL`` once, at its first import. Our users run on headless Linux
-servers, where GLFW (MuJoCo's default) aborts the process when there is no display, so
-we default to EGL (works with Mesa llvmpipe, no X server) unless the user chose a
-backend or a display is present.
+"""Pick an OpenGL backend for MuJoCo before anything imports it: EGL on a Linux machine
+with no display, unless ``MUJOCO_GL`` is set (why: see docs/architecture.md). MuJoCo reads
+``MUJOCO_GL`` once, at its first import, so every module that imports MuJoCo imports this
+first.
 """
 
 import os

@@ -228,7 +228,7 @@ class WhereIsInstance(TaskInstance):
         return {**super().describe(), "answers": list(self.answers)}
 
 
-#: LEGENT's Where Is data (LEGENT-FACTS.md): these objects ...
+#: LEGENT's Where Is data (the objects and receptacles of LEGENT's released Where Is task data): these objects ...
 PAPER_WHERE_IS_OBJECTS = ("orange", "apple", "banana", "cola_can")
 #: ... on these receptacles ("table" is any of ours named a table, "countertop" the kitchen counter).
 PAPER_WHERE_IS_RECEPTACLES = ("sofa", "chair", "dining_table", "coffee_table", "side_table", "kitchen_counter",
