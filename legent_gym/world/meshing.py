@@ -29,7 +29,8 @@ class Palette:
         self._index: dict[tuple[int, int, int], int] = {}
 
     def index(self, rgba: Sequence[float]) -> int:
-        return self.index_rgb8(tuple(int(round(min(max(c, 0.0), 1.0) * 255)) for c in rgba[:3]))
+        r, g, b = (int(round(min(max(c, 0.0), 1.0) * 255)) for c in rgba[:3])
+        return self.index_rgb8((r, g, b))
 
     def index_rgb8(self, key: tuple[int, int, int]) -> int:
         """The texel of an 8-bit colour (r, g, b), added if new."""
@@ -244,7 +245,7 @@ def _merged(parts: list[Part]) -> ColouredMesh:
 # House shell geometry
 
 
-def triangulate_polygon(polygon: Sequence[Sequence[float]]) -> np.ndarray:
+def triangulate_polygon(polygon: Sequence[Sequence[float]] | np.ndarray) -> np.ndarray:
     """Triangles (indices into the polygon) of a simple polygon, CCW from above."""
     pts = np.asarray(polygon, dtype=np.float64)
     tris = np.asarray(mapbox_earcut.triangulate_float64(pts, np.array([len(pts)], dtype=np.uint32)))

@@ -282,6 +282,13 @@ class Renderer:
     def __del__(self) -> None:
         self.close()
 
+    def _made_scene(self) -> mujoco.MjvScene:
+        """The scene :meth:`_ensure` made (or took over)."""
+        scn = self._scene
+        if scn is None:
+            raise RuntimeError("the renderer has no scene yet: _ensure() makes it")
+        return scn
+
     def upload_textures(self) -> None:
         """Send changed texture data (e.g. a re-coloured palette) to the GPU."""
         if self._context is None:
@@ -337,7 +344,7 @@ class Renderer:
         if camera != self._camera_spec or camera == "topdown" or isinstance(camera, FreeCamera):
             self._setup_camera(camera)
             self._camera_spec = camera
-        scn, model, data = self._scene, self.world.model, self.world.data
+        scn, model, data = self._made_scene(), self.world.model, self.world.data
         if self._cull is None:
             mujoco.mjv_updateScene(model, data, self._option, self._perturb, self._camera, mujoco.mjtCatBit.mjCAT_ALL, scn)
         else:
@@ -365,7 +372,7 @@ class Renderer:
         self._ensure()
         self._setup_camera(camera)
         self._camera_spec = camera
-        flags = self._scene.flags.copy()  # as for rgb(), whatever the last frame was
+        flags = self._made_scene().flags.copy()  # as for rgb(), whatever the last frame was
         flags[mujoco.mjtRndFlag.mjRND_SEGMENT] = flags[mujoco.mjtRndFlag.mjRND_IDCOLOR] = 0
         return copy.copy(self._option), copy.copy(self._camera), flags
 
@@ -406,7 +413,7 @@ class Renderer:
         mujoco.mjr_readPixels(self._rgb, None, self._rect, self._context)
         img = self._rgb[::-1].astype(np.int32)
         segid = img[..., 0] + (img[..., 1] << 8) + (img[..., 2] << 16)
-        scn = self._scene
+        scn = self._made_scene()
         lookup = np.full(scn.ngeom + 1, -1, dtype=np.int32)
         for i in range(scn.ngeom):
             g = scn.geoms[i]
