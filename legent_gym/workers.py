@@ -33,7 +33,7 @@ import signal
 import threading
 import time
 from collections import deque
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Generator, Iterable, Iterator, Sized
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
@@ -75,7 +75,8 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
         raise ValueError(f"workers must be >= 1, got {workers}")
     if ahead < 1:
         raise ValueError(f"ahead must be >= 1, got {ahead}")
-    total = len(calls) if hasattr(calls, "__len__") else None
+    total = len(calls) if isinstance(calls, Sized) else None
+    results: Generator[Any, None, None]
     if workers == 1:
         results = (fn(*call) for call in calls)
     else:
@@ -83,7 +84,7 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
     return _counted(results, progress, total)
 
 
-def _counted(results: Iterator[Any], progress: bool | str, total: int | None) -> Iterator[Any]:
+def _counted(results: Generator[Any, None, None], progress: bool | str, total: int | None) -> Iterator[Any]:
     from tqdm import tqdm
 
     with tqdm(total=total, desc=progress if isinstance(progress, str) else None, disable=not progress,
@@ -96,7 +97,7 @@ def _counted(results: Iterator[Any], progress: bool | str, total: int | None) ->
             results.close()  # stops the workers now if the consumer stopped early
 
 
-def _in_workers(fn, calls, workers, initializer, initargs, ahead, pin) -> Iterator[Any]:
+def _in_workers(fn, calls, workers, initializer, initargs, ahead, pin) -> Generator[Any, None, None]:
     ctx = mp_context()
     cores = sorted(os.sched_getaffinity(0)) if pin and hasattr(os, "sched_setaffinity") else []
     crew = _Crew(ctx, workers, cores)

@@ -278,6 +278,8 @@ class _SpecBuilder:
 
     def _textured_geom(self, body, part: Part, *, group: int, name: str) -> None:
         """An imported part with its own base-colour texture."""
+        if part.texture is None or part.uv is None:
+            raise ValueError(f"{name}: a textured part needs a texture and uv coordinates")
         tname = f"tex_{self._texture_count}"
         self._texture_count += 1
         img = np.ascontiguousarray(part.texture[..., :3], dtype=np.uint8)
