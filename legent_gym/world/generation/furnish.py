@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 from typing import cast
 
 import numpy as np
-from scipy import ndimage
 
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import AssetModel, Receptacle
@@ -51,6 +50,7 @@ from legent_gym.world.geometry import (
 )
 from legent_gym.world.navigation import (
     Raster,
+    label_regions,
     leaf_half_thickness,
     least_square_distance,
     walkable_from_free,
@@ -264,10 +264,6 @@ class RoomSpace:
         return out
 
 
-#: ndimage.label's default structure, made once (it is rebuilt on every call otherwise).
-_FOUR_CONNECTED = ndimage.generate_binary_structure(2, 1)
-
-
 class RoomReach:
     """A small raster of one room: can the agent still walk between the doors and reach
     every piece?"""
@@ -347,7 +343,7 @@ class RoomReach:
 
     def ok(self, targets: list[np.ndarray]) -> bool:
         """Doors linked by walkable floor, and each target rectangle within reach of it."""
-        labels, n = ndimage.label(self.walkable(), structure=_FOUR_CONNECTED)
+        labels, n = label_regions(self.walkable())
         if n == 0:
             return False
         common: set[int] | None = None
