@@ -23,6 +23,7 @@ Grid convention: cell ``(row, col)`` covers ``x in [x0 + col*res, x0 + (col+1)*r
 
 from __future__ import annotations
 
+import copy
 import math
 from collections import OrderedDict
 from collections.abc import Sequence
@@ -262,6 +263,29 @@ class NavGrid:
                 raster.fill_corners(obstacles, fp)
         return cls(origin, resolution, floor, walls, obstacles, agent_radius, scene=scene,
                    footprints=footprints)
+
+    def for_scene(self, scene: Scene) -> NavGrid:
+        """``NavGrid.from_scene(scene)`` with this grid's radius and resolution, for a scene
+        whose rooms, walls, door openings and floor furniture are those of the scene this
+        grid was made from (the caller vouches for it; the house generator hands its grid
+        of the bare house over to the furnished one so): objects that block nothing (those
+        resting on others) may differ. The cells and what was worked out from them (regions,
+        the path graph, ...) are shared; only footprints of objects new to the grid are
+        computed."""
+        before = {o.id: o for o in self.scene.objects} if self.scene is not None else {}
+        footprints = {}
+        for obj in scene.objects:
+            fp = self.footprints.get(obj.id) if before.get(obj.id) == obj else None
+            if fp is None:
+                fp = object_footprint(scene, obj)
+            if fp is not None:
+                footprints[obj.id] = fp
+        grid = copy.copy(self)
+        grid.scene, grid.footprints = scene, footprints
+        # Caches of the same cells, copied so that the two grids' caches grow apart.
+        grid._fields = OrderedDict(self._fields)
+        grid._component_masks = dict(self._component_masks)
+        return grid
 
     # -- coordinates --------------------------------------------------------------------
     @property

@@ -53,8 +53,13 @@ from legent_gym.world.generation.surfaces_and_lights import (
     room_surfaces,
 )
 from legent_gym.world.generation.validate import check_house
-from legent_gym.world.geometry import local_footprint
-from legent_gym.world.navigation import NavGrid, clearance_at_least
+from legent_gym.world.geometry import door_passable, local_footprint
+from legent_gym.world.navigation import (
+    DEFAULT_AGENT_RADIUS,
+    DEFAULT_RESOLUTION,
+    NavGrid,
+    clearance_at_least,
+)
 from legent_gym.world.scene import ObjectInstance, Room, Scene, Spawn
 
 #: Extra clearance (beyond the agent radius) preferred around spawn points, metres.
@@ -348,6 +353,13 @@ def place_spawns(nav: NavGrid, component: int, rng: np.random.Generator, *, user
 def attempt_house(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
                   rng: np.random.Generator) -> Scene:
     """One try at a house; raises :class:`AttemptFailed` (or returns a scene to check)."""
+    return _attempt(seed, spec, c, catalog, rng)[0]
+
+
+def _attempt(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
+             rng: np.random.Generator) -> tuple[Scene, NavGrid]:
+    """:func:`attempt_house`, and the navigation grid of the house without its small
+    objects (default agent radius and resolution), with which it was checked."""
     types = choose_rooms(spec, c, catalog, rng)
     fp = _floor_plan(spec, types, rng)
     furn = _furnish(c, fp, catalog, rng)
@@ -356,7 +368,7 @@ def attempt_house(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
     base: dict[str, Any] = dict(name=spec.name or f"house-{seed}", seed=seed, rooms=rooms, walls=fp.walls, doors=fp.doors,
                 windows=fp.windows, lights=lights)
     bare = Scene(**base, objects=_objects(fp, furn.pieces, []), agent=Spawn(position=(0.0, 0.0)))
-    nav = NavGrid.from_scene(bare, agent_radius=0.25, resolution=0.05)
+    nav = NavGrid.from_scene(bare, agent_radius=DEFAULT_AGENT_RADIUS, resolution=DEFAULT_RESOLUTION)
     component = _main_component(nav, fp, furn.spaces)
 
     def reachable(piece: Placed, rec) -> bool:
@@ -377,7 +389,7 @@ def attempt_house(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
     problems = check_house(scene, nav, reach=REACH)
     if problems:
         raise AttemptFailed("the house fails its checks: " + "; ".join(problems[:3]))
-    return scene
+    return scene, nav
 
 
 # ---------------------------------------------------------------------------------------
@@ -419,6 +431,23 @@ def generate_house(seed: int, spec: Any = None, **conditions: Any) -> Scene:
     Raises :class:`GenerationError` naming the condition that cannot be met (at once when
     it is plainly impossible, else after ``max_attempts`` tries or ``time_limit`` seconds).
     """
+    return _generate(seed, spec, conditions)[0]
+
+
+def generate_house_with_grid(seed: int, spec: Any = None, **conditions: Any) -> tuple[Scene, NavGrid]:
+    """:func:`generate_house`'s scene and its navigation grid, ``NavGrid.from_scene(scene)``
+    (the default agent radius and resolution), for less than that costs: the generator has
+    rasterised the house to check it, so only the small objects' footprints are added."""
+    scene, nav = _generate(seed, spec, conditions)
+    if not all(door_passable(d) for d in scene.doors):
+        # The house was checked with its doors open (``door_openness`` closes them after).
+        return scene, NavGrid.from_scene(scene)
+    return scene, nav.for_scene(scene)
+
+
+def _generate(seed: int, spec: Any, conditions: dict[str, Any]) -> tuple[Scene, NavGrid]:
+    """The generated scene (doors set to ``door_openness``) and the grid of its bare house,
+    with the doors open."""
     seed = int(seed)
     hs = make_spec(resolve_spec(spec), conditions)
     catalog = Catalog.from_registry()
@@ -429,7 +458,8 @@ def generate_house(seed: int, spec: Any = None, **conditions: Any) -> Scene:
     for _ in range(hs.max_attempts):
         rng = master.spawn(1)[0]
         try:
-            return _with_door_openness(attempt_house(seed, hs, c, catalog, rng), hs.door_openness)
+            scene, nav = _attempt(seed, hs, c, catalog, rng)
+            return _with_door_openness(scene, hs.door_openness), nav
         except AttemptFailed as err:
             failures.append(err)
         if time.perf_counter() - started > hs.time_limit:
