@@ -257,8 +257,7 @@ def penetration(a: np.ndarray, b: np.ndarray) -> float:
     """How deep (metres) two convex quadrilaterals (corners) overlap; <= 0 when apart or touching."""
     depth = np.inf
     for poly in (a, b):
-        edges = np.roll(poly, -1, axis=0) - poly
-        for e in edges[:2]:  # a rectangle's other two edges are parallel to these
+        for e in poly[1:3] - poly[:2]:  # a rectangle's other two edges are parallel to these
             n = np.array([-e[1], e[0]])
             norm = float(np.hypot(*n))
             if norm < 1e-12:
@@ -301,9 +300,9 @@ def polygon_centroid(polygon: Sequence[Sequence[float]] | np.ndarray) -> np.ndar
 def inside_polygon(x: np.ndarray, y: np.ndarray, poly: np.ndarray) -> np.ndarray:
     """Booleans, of ``x`` and ``y`` broadcast together: points inside the polygon (M, 2), by
     the even-odd rule."""
-    poly = np.asarray(poly, dtype=np.float64)
+    pts = np.asarray(poly, dtype=np.float64).tolist()  # edges by plain floats: the same arithmetic
     inside = np.zeros(np.broadcast_shapes(np.shape(x), np.shape(y)), dtype=bool)
-    for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
+    for (xa, ya), (xb, yb) in zip(pts, pts[1:] + pts[:1]):
         if ya == yb:
             continue
         crosses = (ya > y) != (yb > y)

@@ -272,20 +272,29 @@ class NavGrid:
         resting on others) may differ. The cells and what was worked out from them (regions,
         the path graph, ...) are shared; only footprints of objects new to the grid are
         computed."""
-        before = {o.id: o for o in self.scene.objects} if self.scene is not None else {}
-        footprints = {}
-        for obj in scene.objects:
-            fp = self.footprints.get(obj.id) if before.get(obj.id) == obj else None
-            if fp is None:
-                fp = object_footprint(scene, obj)
-            if fp is not None:
-                footprints[obj.id] = fp
         grid = copy.copy(self)
-        grid.scene, grid.footprints = scene, footprints
+        grid.scene, grid.footprints = scene, self.footprints_for(scene)
         # Caches of the same cells, copied so that the two grids' caches grow apart.
         grid._fields = OrderedDict(self._fields)
         grid._component_masks = dict(self._component_masks)
         return grid
+
+    def footprints_for(self, scene: Scene) -> dict[int, np.ndarray]:
+        """Footprint corners of ``scene``'s objects (those of known size), what
+        ``object_footprint`` gives: the grid's own for objects it was made with (equal
+        objects, the same imported assets), computed for the others."""
+        before = {}
+        if self.scene is not None and (self.scene is scene or self.scene.assets == scene.assets):
+            before = {o.id: o for o in self.scene.objects}
+        footprints = {}
+        for obj in scene.objects:
+            old = before.get(obj.id)
+            fp = self.footprints.get(obj.id) if old is obj or old == obj else None
+            if fp is None:
+                fp = object_footprint(scene, obj)
+            if fp is not None:
+                footprints[obj.id] = fp
+        return footprints
 
     # -- coordinates --------------------------------------------------------------------
     @property

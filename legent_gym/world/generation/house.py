@@ -283,8 +283,8 @@ def _scene_rooms(fp: FloorPlan, rng: np.random.Generator) -> list[Room]:
     return rooms
 
 
-def _objects(fp: FloorPlan, pieces: list[Placed], small: list[SmallPlaced]) -> list[ObjectInstance]:
-    """Furniture ordered by room (then placement), then small objects; ids 0..N-1."""
+def _furniture(fp: FloorPlan, pieces: list[Placed]) -> tuple[list[ObjectInstance], dict[int, int]]:
+    """Furniture ordered by room (then placement), ids 0..N-1; and each piece's id."""
     order = sorted(range(len(pieces)), key=lambda k: (pieces[k].room, k))
     new_id = {k: i for i, k in enumerate(order)}
     out = []
@@ -294,6 +294,13 @@ def _objects(fp: FloorPlan, pieces: list[Placed], small: list[SmallPlaced]) -> l
             id=new_id[k], asset=p.asset, variant=p.variant, position=(r4(p.x), r4(p.y), r4(p.z)),
             rotation=(0.0, 0.0, r4(p.yaw_deg)), kind="interactable" if p.model.pickupable else "static",
             on=None if p.support is None else new_id[p.support], room=fp.room_ids[p.room]))
+    return out, new_id
+
+
+def _objects(fp: FloorPlan, pieces: list[Placed], furniture: tuple[list[ObjectInstance], dict[int, int]],
+             small: list[SmallPlaced]) -> list[ObjectInstance]:
+    """The furniture (:func:`_furniture`'s, the same instances), then the small objects."""
+    out, new_id = list(furniture[0]), furniture[1]
     for s in small:
         out.append(ObjectInstance(
             id=len(out), asset=s.asset, variant=s.variant, position=(r4(s.x), r4(s.y), r4(s.z)),
@@ -367,7 +374,8 @@ def _attempt(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
     lights = [ceiling_light(light_point(p), spec.wall_height) for p in fp.polygons]
     base: dict[str, Any] = dict(name=spec.name or f"house-{seed}", seed=seed, rooms=rooms, walls=fp.walls, doors=fp.doors,
                 windows=fp.windows, lights=lights)
-    bare = Scene(**base, objects=_objects(fp, furn.pieces, []), agent=Spawn(position=(0.0, 0.0)))
+    furniture = _furniture(fp, furn.pieces)
+    bare = Scene(**base, objects=furniture[0], agent=Spawn(position=(0.0, 0.0)))
     nav = NavGrid.from_scene(bare, agent_radius=DEFAULT_AGENT_RADIUS, resolution=DEFAULT_RESOLUTION)
     component = _main_component(nav, fp, furn.spaces)
 
@@ -385,7 +393,7 @@ def _attempt(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
     except PlacementFailed as err:
         raise AttemptFailed(str(err), "small objects") from None
     agent, user = place_spawns(nav, component, rng, user=spec.user, min_distance=spec.min_user_distance)
-    scene = Scene(**base, objects=_objects(fp, furn.pieces, small), agent=agent, user=user)
+    scene = Scene(**base, objects=_objects(fp, furn.pieces, furniture, small), agent=agent, user=user)
     problems = check_house(scene, nav, reach=REACH)
     if problems:
         raise AttemptFailed("the house fails its checks: " + "; ".join(problems[:3]))

@@ -21,7 +21,6 @@ from legent_gym.world.geometry import (
     boxes_overlap,
     door_keepout_squares,
     is_floor_furniture,
-    object_footprint,
     penetration,
     points_in_polygon,
     points_in_rect,
@@ -42,18 +41,19 @@ def check_house(scene: Scene, navgrid: NavGrid | None = None, *, reach: float = 
     ``navgrid`` (built from this scene) is reused when given; ``reach`` is how far (metres)
     the agent reaches from where it stands."""
     nav = navgrid if navgrid is not None else NavGrid.from_scene(scene)
-    feet = {o.id: fp for o in scene.objects if (fp := object_footprint(scene, o)) is not None}
+    feet = nav.footprints_for(scene)
     names = {o.id: f"object {o.id} ({o.asset})" for o in scene.objects}
+    rests = resting_places(scene, feet)
     problems = check_doors_link_rooms(scene)
     problems += check_spawns(scene, nav)
     component = nav.component(scene.agent.position) if nav.is_walkable(scene.agent.position) else 0
     if component:
         problems += check_rooms_reachable(scene, nav, component)
-        problems += check_objects_reachable(scene, nav, component, feet, names, reach)
+        problems += check_objects_reachable(scene, nav, component, feet, names, reach, rests)
     problems += check_furniture_overlaps(scene, feet, names)
     problems += check_furniture_walls(scene, feet, names)
     problems += check_door_clearance(scene, feet, names)
-    problems += check_surfaces(scene, feet, names)
+    problems += check_surfaces(scene, feet, names, rests)
     problems += check_inside_house(scene, feet, names)
     return problems
 
@@ -104,9 +104,22 @@ def check_rooms_reachable(scene: Scene, nav: NavGrid, component: int) -> list[st
     return out
 
 
+def resting_places(scene: Scene, feet: dict[int, np.ndarray]) -> dict[int, tuple[int, np.ndarray] | None]:
+    """:func:`find_receptacle` of every object resting on another one of the scene, by
+    object id (the checks below share it)."""
+    by_id: dict[int, ObjectInstance] = {}
+    for o in scene.objects:
+        by_id.setdefault(o.id, o)  # the first of an id, as Scene.object finds it
+    return {obj.id: find_receptacle(scene, by_id[obj.on], obj, feet.get(obj.id))
+            for obj in scene.objects if obj.on is not None and obj.on in by_id}
+
+
 def check_objects_reachable(scene: Scene, nav: NavGrid, component: int, feet: dict[int, np.ndarray],
-                            names: dict[int, str], reach: float) -> list[str]:
-    """Floor furniture, and every receptacle something rests on, need a standing point."""
+                            names: dict[int, str], reach: float,
+                            rests: dict[int, tuple[int, np.ndarray] | None] | None = None) -> list[str]:
+    """Floor furniture, and every receptacle something rests on, need a standing point.
+    ``rests``: :func:`resting_places`, if already found."""
+    rests = resting_places(scene, feet) if rests is None else rests
     out = []
     for obj in scene.objects:
         if is_floor_furniture(obj) and obj.id in feet and not nav.can_reach(feet[obj.id], reach, component):
@@ -115,8 +128,7 @@ def check_objects_reachable(scene: Scene, nav: NavGrid, component: int, feet: di
     for obj in scene.objects:
         if obj.on is None or obj.on not in names:
             continue
-        support = scene.object(obj.on)
-        found = find_receptacle(scene, support, obj, feet.get(obj.id))
+        found = rests[obj.id]
         if found is None or (obj.on, found[0]) in seen:
             continue
         seen.add((obj.on, found[0]))
@@ -192,15 +204,18 @@ def check_door_clearance(scene: Scene, feet: dict[int, np.ndarray], names: dict[
     return out
 
 
-def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
-    """Objects resting on something lie inside one of its receptacles, apart from each other."""
+def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str],
+                   rests: dict[int, tuple[int, np.ndarray] | None] | None = None) -> list[str]:
+    """Objects resting on something lie inside one of its receptacles, apart from each other.
+    ``rests``: :func:`resting_places`, if already found."""
+    rests = resting_places(scene, feet) if rests is None else rests
     out = []
     by_surface: dict[tuple[int, int], list[int]] = {}
     ids = {o.id for o in scene.objects}
     for obj in scene.objects:
         if obj.on is None or obj.on not in ids or obj.id not in feet:
             continue
-        found = find_receptacle(scene, scene.object(obj.on), obj, feet[obj.id])
+        found = rests[obj.id]
         if found is None or not points_in_rect(feet[obj.id], found[1], TOLERANCE).all():
             out.append(f"{names[obj.id]} is not inside a receptacle of {names[obj.on]}")
             continue
