@@ -233,6 +233,7 @@ class NavGrid:
         self._fields: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
         self._open: np.ndarray | None = None
         self._component_masks: dict[int, np.ndarray] = {}
+        self._padded_masks: dict[str, np.ndarray] = {}
         self.cache_size = 32
 
     # -- construction -------------------------------------------------------------------
@@ -520,7 +521,7 @@ class NavGrid:
         """For each target, whether segment a -> target (grid coordinates) passes only
         through walkable cells: every cell it enters is found from its crossings of the
         grid lines (an exact supercover, vectorised over targets)."""
-        return _segments_clear(self.walkable, a, targets)
+        return _padded_segments_clear(self._padded_mask("walkable"), a, targets)
 
     # -- line of sight and reach --------------------------------------------------------
     def line_of_sight(self, a: Sequence[float] | np.ndarray, b: Sequence[float] | np.ndarray, *,
@@ -534,7 +535,15 @@ class NavGrid:
 
     def _wall_free(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Segments a[i] -> b[i] (grid coordinates) that cross no wall cell."""
-        return _segments_clear(self._open_mask(), a, b)
+        return _padded_segments_clear(self._padded_mask("open"), a, b)
+
+    def _padded_mask(self, which: str) -> np.ndarray:
+        """The walkable (``"walkable"``) or wall-free (``"open"``) mask with a false border,
+        for the segment tests (made once)."""
+        padded = self._padded_masks.get(which)
+        if padded is None:
+            padded = self._padded_masks[which] = _padded(self.walkable if which == "walkable" else self._open_mask())
+        return padded
 
     def _open_mask(self) -> np.ndarray:
         """Cells free of walls (and of closed doors)."""
@@ -696,14 +705,28 @@ def _segments_clear(mask: np.ndarray, a: np.ndarray, targets: np.ndarray) -> np.
     ``a`` may be one point for all) lies in cells where ``mask`` is true: every cell the
     segment enters is found from its crossings of the grid lines (an exact supercover,
     vectorised). Cells touched only at a corner point are ignored."""
-    h, w = mask.shape
+    return _padded_segments_clear(_padded(mask), a, targets)
+
+
+def _padded(mask: np.ndarray) -> np.ndarray:
+    """``mask`` with a border of false cells: an index clipped into the border looks up a
+    cell outside the grid."""
+    out = np.zeros((mask.shape[0] + 2, mask.shape[1] + 2), dtype=bool)
+    out[1:-1, 1:-1] = mask
+    return out
+
+
+def _padded_segments_clear(padded: np.ndarray, a: np.ndarray, targets: np.ndarray) -> np.ndarray:
+    """:func:`_segments_clear` on the :func:`_padded` mask."""
+    h, w = padded.shape[0] - 2, padded.shape[1] - 2
+    flat = padded.ravel()
     t = np.asarray(targets, dtype=np.float64).reshape(-1, 2)
     s = np.broadcast_to(np.asarray(a, dtype=np.float64), t.shape)
 
     def lookup(rows: np.ndarray, cols: np.ndarray, valid: np.ndarray) -> np.ndarray:
-        inside = (rows >= 0) & (rows < h) & (cols >= 0) & (cols < w)
-        vals = mask[np.minimum(np.maximum(rows, 0), h - 1), np.minimum(np.maximum(cols, 0), w - 1)] & inside
-        return (vals | ~valid).all(axis=-1)
+        # Rows and columns clipped to -1..h and -1..w: the border answers false outside.
+        at = (np.minimum(np.maximum(rows, -1), h) + 1) * (w + 2) + np.minimum(np.maximum(cols, -1), w) + 1
+        return (flat.take(at) | ~valid).all(axis=-1)
 
     one = np.ones((len(t), 1), dtype=bool)
     ok = lookup(np.floor(s[:, 1:2]).astype(np.int64), np.floor(s[:, 0:1]).astype(np.int64), one)
