@@ -41,6 +41,7 @@ from legent_gym.world.meshing import (
     Palette,
     link_geometry,
     polygon_surface,
+    prepare_link_geometry,
     wall_piece_box,
     wall_pieces,
 )
@@ -208,8 +209,12 @@ class _SpecBuilder:
         for door in self.scene.doors:
             if door.leaf:
                 self._add_door_leaf(door)
-        for obj in self.scene.objects:
-            self._add_object(obj)
+        assets = [self._asset_for(obj) for obj in self.scene.objects]
+        # The links' merged meshes and collision shapes, for all objects at once.
+        prepare_link_geometry([(link, obj.kind == "interactable" or link.joint is not None)
+                               for obj, asset in zip(self.scene.objects, assets) for link in asset.links])
+        for obj, asset in zip(self.scene.objects, assets):
+            self._add_object(obj, asset)
         self._add_avatar("agent", self.options.agent, (0.25, 0.35, 0.6, 1.0), GROUP_AGENT)
         self._add_avatar("user", self.options.user, (0.8, 0.45, 0.3, 1.0), GROUP_USER)
         self._add_lights()
@@ -450,8 +455,7 @@ class _SpecBuilder:
             model = registry.make(obj.asset, obj.variant)
         return model.scaled(obj.scale)
 
-    def _add_object(self, obj) -> None:
-        asset = self._asset_for(obj)
+    def _add_object(self, obj, asset: AssetModel) -> None:
         self.assets[obj.id] = asset
         interactable = obj.kind == "interactable"
         body = self.spec.worldbody.add_body(name=f"obj_{obj.id}", pos=list(obj.position),

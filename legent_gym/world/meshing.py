@@ -16,7 +16,7 @@ from functools import lru_cache
 import mapbox_earcut
 import numpy as np
 
-from legent_gym.world.assets.model import Part, box_part
+from legent_gym.world.assets.model import Link, Part, box_part
 
 PALETTE_SIZE = 64  # 64 x 64 texels: 4,096 distinct colours per scene
 
@@ -204,41 +204,113 @@ def link_geometry(link, movable: bool, *, cache: bool = True) -> LinkGeometry:
     hit = _LINK_CACHE.get(key) if cache else None
     if hit is not None and hit[0] is link:
         return hit[1]
-    textured = [p for p in link.parts if p.texture is not None and p.uv is not None]
-    plain = [p for p in link.parts if (p.texture is None or p.uv is None) and len(p.faces)]
-    boxes = [p for p in link.parts if p.collision != "none" and (p.collision == "box" or not movable)]
-    hull_points = [p.vertices for p in link.parts if p.collision not in ("none", "box") and movable]
-    shapes = []
-    if boxes:
-        # Every box part's bounds at once (min/max per part's rows of one array).
-        allv = np.concatenate([p.vertices for p in boxes])
-        starts = np.cumsum([0] + [len(p.vertices) for p in boxes[:-1]])
-        lo, hi = np.minimum.reduceat(allv, starts), np.maximum.reduceat(allv, starts)
-        centres, halves = (lo + hi) / 2, np.maximum((hi - lo) / 2, 1e-4)
-        shapes = [CollisionShape("box", centres[i], halves[i]) for i in range(len(boxes))]
-    if hull_points:
-        shapes.append(CollisionShape("hull", vertices=np.concatenate(hull_points)))
-    geometry = LinkGeometry(_merged(plain) if plain else None, tuple(textured), tuple(shapes))
-    if not cache:
-        return geometry
+    geometry = _geometries([(link, movable)])[0]
+    if cache:
+        _remember(link, movable, geometry)
+    return geometry
+
+
+def prepare_link_geometry(links: list[tuple[Link, bool]]) -> None:
+    """Compute the :func:`link_geometry` of many ``(link, movable)`` at once (into its
+    cache): the same arrays, with a few array operations for all of them rather than for
+    each (a house's links are mostly new: their models are new variants)."""
+    todo, seen = [], set()
+    for link, movable in links:
+        key = (id(link), movable)
+        hit = _LINK_CACHE.get(key)
+        if key not in seen and (hit is None or hit[0] is not link):
+            seen.add(key)
+            todo.append((link, movable))
+    for (link, movable), geometry in zip(todo, _geometries(todo)):
+        _remember(link, movable, geometry)
+
+
+def _remember(link, movable: bool, geometry: LinkGeometry) -> None:
     if len(_LINK_CACHE) >= _LINK_CACHE_SIZE:
         _LINK_CACHE.clear()
-    _LINK_CACHE[key] = (link, geometry)  # the strong reference keeps id(link) unique
-    return geometry
+    _LINK_CACHE[id(link), movable] = (link, geometry)  # the strong reference keeps id(link) unique
+
+
+def _geometries(links: list[tuple[Link, bool]]) -> list[LinkGeometry]:
+    """:class:`LinkGeometry` of each ``(link, movable)``."""
+    textured, plain, boxes, hulls = [], [], [], []
+    for link, movable in links:
+        textured.append(tuple(p for p in link.parts if p.texture is not None and p.uv is not None))
+        plain.append([p for p in link.parts if (p.texture is None or p.uv is None) and len(p.faces)])
+        boxes.append([p for p in link.parts if p.collision != "none" and (p.collision == "box" or not movable)])
+        hulls.append([p.vertices for p in link.parts if p.collision not in ("none", "box") and movable])
+    meshes = iter(_merged_many([parts for parts in plain if parts]))
+    box_shapes = iter(_box_shapes([parts for parts in boxes if parts]))
+    out = []
+    for k in range(len(links)):
+        shapes = list(next(box_shapes)) if boxes[k] else []
+        if hulls[k]:
+            shapes.append(CollisionShape("hull", vertices=np.concatenate(hulls[k])))
+        out.append(LinkGeometry(next(meshes) if plain[k] else None, textured[k], tuple(shapes)))
+    return out
+
+
+def _box_shapes(groups: list[list[Part]]) -> list[list[CollisionShape]]:
+    """Each group's parts as collision boxes (:func:`_boxes`), for all groups at once."""
+    if not groups:
+        return []
+    if any(len(p.vertices) == 0 for group in groups for p in group):
+        # reduceat gives an empty part a neighbour's row: keep each link's parts to itself.
+        return [_boxes(group) for group in groups]
+    shapes = _boxes([p for group in groups for p in group])
+    out, k = [], 0
+    for group in groups:
+        out.append(shapes[k:k + len(group)])
+        k += len(group)
+    return out
+
+
+def _boxes(parts: list[Part]) -> list[CollisionShape]:
+    """Each part's bounds as a collision box (grown to at least 0.1 mm): min and max over
+    each part's rows of one array of all the parts."""
+    allv = np.concatenate([p.vertices for p in parts])
+    starts = np.cumsum([0] + [len(p.vertices) for p in parts[:-1]])
+    lo, hi = np.minimum.reduceat(allv, starts), np.maximum.reduceat(allv, starts)
+    centres, halves = (lo + hi) / 2, np.maximum((hi - lo) / 2, 1e-4)
+    return [CollisionShape("box", centres[i], halves[i]) for i in range(len(parts))]
 
 
 def _merged(parts: list[Part]) -> ColouredMesh:
     """The parts as one mesh, each face coloured by its part: what adding them one by one
     to a :class:`MeshAccumulator` builds, in a few array operations. Every part has faces."""
+    return _merged_many([parts])[0]
+
+
+def _merged_many(groups: list[list[Part]]) -> list[ColouredMesh]:
+    """:func:`_merged` of each group of parts, with one array operation for all groups
+    where the arithmetic is row by row (vertex offsets, face normals, colours): each mesh
+    holds views of the shared arrays."""
+    if not groups:
+        return []
+    parts = [p for group in groups for p in group]
     v = np.concatenate([p.vertices for p in parts])
+    n_verts = [len(p.vertices) for p in parts]
     n_faces = [len(p.faces) for p in parts]
-    starts = np.cumsum([0] + [len(p.vertices) for p in parts[:-1]]).astype(np.int32)
-    f = np.concatenate([p.faces for p in parts]) + np.repeat(starts, n_faces)[:, None]
+    # Each part's first vertex in the shared array, and in its own group's mesh.
+    starts = np.cumsum([0] + n_verts[:-1])
+    group_start = np.repeat(starts[np.cumsum([0] + [len(g) for g in groups[:-1]])], [len(g) for g in groups])
+    faces = np.concatenate([p.faces for p in parts])
+    shared = faces + np.repeat(starts.astype(np.int32), n_faces)[:, None]
+    local = faces + np.repeat((starts - group_start).astype(np.int32), n_faces)[:, None]
+    normals = face_normals(v, shared)
     part_rgb = to_rgb8([tuple(p.rgba)[:3] for p in parts])  # row by row what _rgb8_of gives
     rgb = np.repeat(part_rgb, n_faces, axis=0)
-    # One colour per part: the faces' distinct colours are the parts' distinct colours.
-    codes, part_colour = np.unique(_packed(part_rgb), return_inverse=True)
-    return ColouredMesh(v, f, face_normals(v, f), rgb, codes, np.repeat(part_colour.reshape(-1), n_faces))
+    out, k, f0 = [], 0, 0
+    for group in groups:
+        nf = sum(n_faces[k:k + len(group)])
+        v0, v1 = int(starts[k]), int(starts[k]) + sum(n_verts[k:k + len(group)])
+        # One colour per part: the faces' distinct colours are the parts' distinct colours.
+        codes, part_colour = np.unique(_packed(part_rgb[k:k + len(group)]), return_inverse=True)
+        out.append(ColouredMesh(v[v0:v1], local[f0:f0 + nf], normals[f0:f0 + nf], rgb[f0:f0 + nf], codes,
+                                np.repeat(part_colour.reshape(-1), n_faces[k:k + len(group)])))
+        k += len(group)
+        f0 += nf
+    return out
 
 
 # ---------------------------------------------------------------------------------------
