@@ -70,7 +70,7 @@ from legent_gym.agent.actions import (
 from legent_gym.agent.body import Body, Outcome
 from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
 from legent_gym.world.builder import BuildOptions, World, build_world
-from legent_gym.world.generation import GenerationError, generate_house
+from legent_gym.world.generation import GenerationError, generate_house_with_grid
 from legent_gym.world.generation.conditions import HouseSpec
 from legent_gym.world.generation.house import AttemptFailed, place_spawns
 from legent_gym.world.navigation import NavGrid
@@ -96,7 +96,8 @@ class HouseDraw:
 
     key: tuple
     seed: int | None
-    load: Any = field(compare=False)  # () -> Scene; called only when the house is not kept
+    #: () -> (Scene, its NavGrid.from_scene grid or None); called only when the house is not kept.
+    load: Any = field(compare=False)
     spawns_drawn: bool = False
 
 
@@ -139,10 +140,10 @@ class HouseSource:
         """The next house (its scene is made only if it is not kept already)."""
         if self.scene is not None:
             scene = self.scene
-            return HouseDraw(("scene", id(scene)), None, lambda: scene)
+            return HouseDraw(("scene", id(scene)), None, lambda: (scene, None))
         if self.files is not None:
             path = self.files[int(rng.integers(len(self.files)))]
-            return HouseDraw(("file", str(path)), None, lambda: load_scene(path), spawns_drawn=True)
+            return HouseDraw(("file", str(path)), None, lambda: (load_scene(path), None), spawns_drawn=True)
         if self.house_pool:
             seed = self.house_pool[self.pool_index % len(self.house_pool)]
             self.pool_index += 1
@@ -152,7 +153,8 @@ class HouseSource:
             seed = int(rng.integers(2**31 - 1))
         conditions = task.house_conditions(seed)
         key = ("seed", self.layout, seed, repr(sorted(conditions.items())))
-        return HouseDraw(key, seed, lambda: generate_house(seed, self.layout, **conditions))
+        # The generator's own navigation grid of the house comes along (cheaper than a new one).
+        return HouseDraw(key, seed, lambda: generate_house_with_grid(seed, self.layout, **conditions))
 
 
 @dataclass
@@ -252,7 +254,7 @@ class Episode:
         house_rng = rng if house_rng is None else house_rng
         for attempt in range(HOUSE_RETRIES):
             if scene is not None:
-                house = self._build(HouseDraw(("given", id(scene)), None, lambda: scene), keep=False)
+                house = self._build(HouseDraw(("given", id(scene)), None, lambda: (scene, None)), keep=False)
             elif current is not None and current.episodes < self.episodes_per_house:
                 house = current
             else:
@@ -290,9 +292,10 @@ class Episode:
         return self._build(draw, keep=True)
 
     def _build(self, draw: HouseDraw, keep: bool) -> House:
-        scene = draw.load()
+        scene, nav = draw.load()
         world = build_world(scene, self.build_options)
-        nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
+        if nav is None or nav.agent_radius != self.build_options.agent.radius:
+            nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
         seed = scene.seed if draw.spawns_drawn else draw.seed
         house = House(draw, scene, world, nav, capture(world), seed)
         if keep:

@@ -290,15 +290,16 @@ class HouseholdEnv(gym.Env):
         world = self.episode.world
         if self.render_mode is None or world is None:
             return None
-        if self._view_world is not world:  # a new house since the last frame
+        renderer = self._view_renderer
+        if renderer is None or self._view_world is not world:  # a new house since the last frame
             self._close_view()
-            self._view_renderer = Renderer(world, self.render_size, self.render_size, "fast")
+            renderer = self._view_renderer = Renderer(world, self.render_size, self.render_size, "fast")
             self._view_world = world
-        a = self.episode.ctx.agent.state
+        a = self.episode.require().agent.state
         camera = FreeCamera((a.x, a.y, 0.8), 4.0, azimuth=a.yaw + 180.0, elevation=-50.0)
         if self.render_mode == "depth_array":
-            return self._view_renderer.depth(camera)
-        return self._view_renderer.rgb(camera)
+            return renderer.depth(camera)
+        return renderer.rgb(camera)
 
     def _close_view(self) -> None:
         if self._view_renderer is not None:
