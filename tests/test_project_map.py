@@ -31,3 +31,19 @@ def test_every_part_is_on_each_map():
         assert f"legent_gym/{part}" in readme or f"`{part}`" in readme, f"README's layout lacks {part}"
         assert part in architecture, f"docs/architecture.md lacks {part}"
         assert f"legent_gym.{name}" in docstring, f"the package docstring lacks legent_gym.{name}"
+
+
+def test_packages_export_their_api():
+    """``from legent_gym.<package> import Name`` works for the names the docs use."""
+    import importlib
+
+    expected = {"agent": ["Body", "Outcome", "parse_actions", "format_actions", "ActionLimits"],
+                "tasks": ["TASKS", "PAPER_WHERE_IS", "MAX_ACTIONS", "make_task", "TaskContext"],
+                "envs": ["ENV_IDS"], "experts": ["Oracle"], "wrappers": ["ExpertInfo"],
+                "multiagent": ["parallel_env"]}
+    for package, names in expected.items():
+        module = importlib.import_module(f"legent_gym.{package}")
+        for name in names:
+            assert name in module.__all__ and getattr(module, name) is not None, f"legent_gym.{package}.{name}"
+        for name in module.__all__:
+            assert hasattr(module, name), f"legent_gym.{package}.__all__ names {name}, which it lacks"

@@ -65,12 +65,15 @@ __all__ = [
     "RotateRight",
     "Speak",
     "Step",
+    "Token",
+    "Tokenizer",
     "clip_action",
     "clip_step",
     "format_action",
     "format_actions",
     "format_number",
     "parse_actions",
+    "quote_string",
 ]
 
 
