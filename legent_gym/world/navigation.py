@@ -23,7 +23,6 @@ Grid convention: cell ``(row, col)`` covers ``x in [x0 + col*res, x0 + (col+1)*r
 
 from __future__ import annotations
 
-import copy
 import math
 from collections import OrderedDict
 from collections.abc import Sequence
@@ -273,11 +272,13 @@ class NavGrid:
         resting on others) may differ. The cells and what was worked out from them (regions,
         the path graph, ...) are shared; only footprints of objects new to the grid are
         computed."""
-        grid = copy.copy(self)
-        grid.scene, grid.footprints = scene, self.footprints_for(scene)
-        # Caches of the same cells, copied so that the two grids' caches grow apart.
-        grid._fields = OrderedDict(self._fields)
-        grid._component_masks = dict(self._component_masks)
+        state = dict(vars(self))
+        state.update(scene=scene, footprints=self.footprints_for(scene),
+                     # Caches of the same cells, copied so that the two grids' caches grow apart.
+                     _fields=OrderedDict(self._fields), _component_masks=dict(self._component_masks),
+                     _padded_masks=dict(self._padded_masks))
+        grid = type(self).__new__(type(self))
+        vars(grid).update(state)
         return grid
 
     def footprints_for(self, scene: Scene) -> dict[int, np.ndarray]:
