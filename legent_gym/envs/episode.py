@@ -72,7 +72,7 @@ from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
 from legent_gym.world.builder import BuildOptions, World, build_world
 from legent_gym.world.generation import GenerationError, generate_house_with_grid
 from legent_gym.world.generation.conditions import HouseSpec
-from legent_gym.world.generation.house import AttemptFailed, place_spawns
+from legent_gym.world.generation.house import AttemptFailed, SpawnSampler
 from legent_gym.world.navigation import NavGrid
 from legent_gym.world.render import Renderer
 from legent_gym.world.scene import Scene, Spawn, load_scene
@@ -168,6 +168,8 @@ class House:
     built: WorldState
     #: The generation seed: the one drawn, or the one a folder's scene file records.
     seed: int | None
+    #: Draws new spawns in this house (made at its first drawn spawns).
+    spawns: SpawnSampler | None = None
     #: Episodes begun in this house since it was last drawn.
     episodes: int = 0
 
@@ -314,10 +316,11 @@ class Episode:
             return
         conditions = self.task.house_conditions(house.draw.seed if house.draw.seed is not None else 0)
         min_distance = float(conditions.get("min_user_distance", HouseSpec.model_fields["min_user_distance"].default))
-        component = house.nav.component(scene.agent.position)
+        if house.spawns is None:
+            house.spawns = SpawnSampler(house.nav, house.nav.component(scene.agent.position))
         for _ in range(SPAWN_RETRIES):
             try:
-                yield place_spawns(house.nav, component, rng, user=scene.user is not None, min_distance=min_distance)
+                yield house.spawns.draw(rng, user=scene.user is not None, min_distance=min_distance)
             except AttemptFailed:
                 return
 

@@ -331,30 +331,47 @@ def _far_cells(nav: NavGrid, cells: np.ndarray, xy: tuple[float, float], distanc
     return cells[np.hypot(pts[:, 0] - xy[0], pts[:, 1] - xy[1]) >= distance + 1e-3]
 
 
+class SpawnSampler:
+    """Draws agent and user spawns on walkable floor of one component, preferably with some
+    room around them (:data:`SPAWN_CLEARANCE`), at least a distance apart. The candidate
+    cells are found once, so a kept house draws new spawns for each episode cheaply."""
+
+    def __init__(self, nav: NavGrid, component: int):
+        self.nav = nav
+        self.ok = nav.labels == component
+        comfy = self.ok & clearance_at_least(nav.free, nav.agent_radius + SPAWN_CLEARANCE + nav.resolution / 2,
+                                             nav.resolution)
+        self.cells = np.argwhere(comfy if comfy.any() else self.ok)
+        self._all_cells: np.ndarray | None = None
+
+    def draw(self, rng: np.random.Generator, *, user: bool, min_distance: float) -> tuple[Spawn, Spawn | None]:
+        """An agent spawn and, with ``user``, a user spawn at least ``min_distance`` from it;
+        raises :class:`AttemptFailed` when there is no room for them."""
+        nav, cells = self.nav, self.cells
+        if len(cells) == 0:
+            raise AttemptFailed("no walkable floor for the agent")
+        a = cells[int(rng.integers(len(cells)))]
+        ax, ay = nav.to_world(a)
+        agent = Spawn(position=(r4(ax), r4(ay)), yaw=round(float(rng.uniform(0.0, 360.0)), 1))
+        if not user:
+            return agent, None
+        far = _far_cells(nav, cells, (ax, ay), min_distance)
+        if len(far) == 0:
+            if self._all_cells is None:
+                self._all_cells = np.argwhere(self.ok)
+            far = _far_cells(nav, self._all_cells, (ax, ay), min_distance)
+        if len(far) == 0:
+            raise AttemptFailed(f"cannot place the user at least {min_distance} m from the agent "
+                                "(min_user_distance)", "min_user_distance")
+        u = far[int(rng.integers(len(far)))]
+        ux, uy = nav.to_world(u)
+        return agent, Spawn(position=(r4(ux), r4(uy)), yaw=round(float(rng.uniform(0.0, 360.0)), 1))
+
+
 def place_spawns(nav: NavGrid, component: int, rng: np.random.Generator, *, user: bool,
                  min_distance: float) -> tuple[Spawn, Spawn | None]:
-    """Agent and user on walkable floor of one component, preferably with some room around
-    them, at least ``min_distance`` apart."""
-    ok = nav.labels == component
-    comfy = ok & clearance_at_least(nav.free, nav.agent_radius + SPAWN_CLEARANCE + nav.resolution / 2,
-                                    nav.resolution)
-    cells = np.argwhere(comfy if comfy.any() else ok)
-    if len(cells) == 0:
-        raise AttemptFailed("no walkable floor for the agent")
-    a = cells[int(rng.integers(len(cells)))]
-    ax, ay = nav.to_world(a)
-    agent = Spawn(position=(r4(ax), r4(ay)), yaw=round(float(rng.uniform(0.0, 360.0)), 1))
-    if not user:
-        return agent, None
-    far = _far_cells(nav, cells, (ax, ay), min_distance)
-    if len(far) == 0:
-        far = _far_cells(nav, np.argwhere(ok), (ax, ay), min_distance)
-    if len(far) == 0:
-        raise AttemptFailed(f"cannot place the user at least {min_distance} m from the agent "
-                            "(min_user_distance)", "min_user_distance")
-    u = far[int(rng.integers(len(far)))]
-    ux, uy = nav.to_world(u)
-    return agent, Spawn(position=(r4(ux), r4(uy)), yaw=round(float(rng.uniform(0.0, 360.0)), 1))
+    """Agent and user on walkable floor of one component (see :class:`SpawnSampler`)."""
+    return SpawnSampler(nav, component).draw(rng, user=user, min_distance=min_distance)
 
 
 def attempt_house(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
