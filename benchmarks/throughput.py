@@ -23,12 +23,13 @@ observations, one core. Rows (``--only`` names):
 * ``vec1``, ``vec2``: ``gym.make_vec("Legent/ComeHere-OneRoom-v0", num_envs=N,
   vectorization_mode="async")`` (forkserver workers, same-step autoreset), steps summed over
   the envs. N=1 runs pinned to one core (the parent and its env process), N=2 unpinned;
-  reported as the ratio N=2 / N=1. ``vec2-lp0`` is N=2 with ``LP_NUM_THREADS=0`` in the env
-  processes: an unpinned process gets llvmpipe render threads (one per core) that every
-  96x96 frame hands its tiles to, where a pinned one draws in its own thread;
+  reported as the ratio N=2 / N=1. With N=2 each env process pins itself to a core of its
+  own and draws in its own thread (``legent_gym/envs/vector.py``). ``vec1-eph8``,
+  ``vec2-eph8``: the same with ``episodes_per_house=8``;
 * ``collect``: ``legent-gym collect Legent/ComeHere-OneRoom-v0 --episodes 100 --out DIR
   --workers 1`` (its Python function, one core, default formats): successful expert
   trajectories per second, the whole call timed (a fresh DIR each round).
+  ``collect-eph8``: the same with ``--env-kwargs '{"episodes_per_house": 8}'``.
 
 Legent's actions are ``benchmarks/step.py``'s random move/turn/tilt text actions, one in ten
 with an interaction appended (``interact()``, ``grab()``, ``put()``, ``open()``,
@@ -91,11 +92,16 @@ def _configs() -> dict[str, dict]:
                             "env_id": "MiniWorld-FourRooms-v0"}
     for n in (1, 2):
         rows[f"vec{n}"] = {"kind": "vector", "label": f"make_vec ComeHere-OneRoom, async, N={n}",
-                           "env_id": LEGENT_IDS["OneRoom"], "num_envs": n}
-    rows["vec2-lp0"] = {"kind": "vector", "label": "make_vec ComeHere-OneRoom, async, N=2, LP_NUM_THREADS=0",
-                        "env_id": LEGENT_IDS["OneRoom"], "num_envs": 2, "env": {"LP_NUM_THREADS": "0"}}
+                           "env_id": LEGENT_IDS["OneRoom"], "num_envs": n, "kwargs": {}}
+        rows[f"vec{n}-eph8"] = {"kind": "vector", "env_id": LEGENT_IDS["OneRoom"], "num_envs": n,
+                                "label": f"make_vec ComeHere-OneRoom, async, N={n}, episodes_per_house=8",
+                                "kwargs": {"episodes_per_house": 8}}
     rows["collect"] = {"kind": "collect", "label": "legent-gym collect ComeHere-OneRoom, --workers 1",
-                       "env_id": LEGENT_IDS["OneRoom"]}
+                       "env_id": LEGENT_IDS["OneRoom"], "kwargs": {}}
+    rows["collect-eph8"] = {"kind": "collect", "env_id": LEGENT_IDS["OneRoom"],
+                            "label": "legent-gym collect ComeHere-OneRoom, --workers 1, "
+                                     "--env-kwargs '{\"episodes_per_house\": 8}'",
+                            "kwargs": {"episodes_per_house": 8}}
     return rows
 
 
@@ -164,18 +170,20 @@ class _VecLoop:
 
 
 class _CollectLoop:
-    def __init__(self, env_id: str, episodes: int, scratch: Path):
+    def __init__(self, env_id: str, episodes: int, scratch: Path, env_kwargs: dict):
         from legent_gym.data.collect import CollectConfig, collect
 
         self.collect, self.CollectConfig = collect, CollectConfig
         self.env_id, self.episodes, self.scratch, self.round = env_id, episodes, scratch, 0
+        self.env_kwargs = env_kwargs
         self._collect(2)  # warm-up: imports, writers, the first GL context
 
     def _collect(self, episodes: int):
-        out = self.scratch / f"collect-{self.round}"
+        out = self.scratch / f"collect-{os.getpid()}-{self.round}"
         self.round += 1
         shutil.rmtree(out, ignore_errors=True)
-        config = self.CollectConfig(self.env_id, episodes, str(out), workers=1, seed=0)
+        config = self.CollectConfig(self.env_id, episodes, str(out), workers=1, seed=0,
+                                    env_kwargs=dict(self.env_kwargs))
         wall0, cpu0 = time.perf_counter(), time.process_time()
         summary = self.collect(config, show_progress=False)
         result = {"steps": summary.new_episodes, "wall": time.perf_counter() - wall0,
@@ -232,13 +240,13 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
         vec = gym.make_vec(config["env_id"], num_envs=config["num_envs"], vectorization_mode="async",
                            vector_kwargs={"context": "forkserver",
                                           "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP},
-                           width=args.size, height=args.size)
+                           width=args.size, height=args.size, **config["kwargs"])
         loop = _VecLoop(vec, legent_actions(4096, seed), seed)
         facts["cores"] = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
     elif kind == "collect":
         import legent_gym  # noqa: F401
 
-        loop = _CollectLoop(config["env_id"], args.collect_episodes, Path(args.scratch))
+        loop = _CollectLoop(config["env_id"], args.collect_episodes, Path(args.scratch), config["kwargs"])
         return loop, facts
     else:
         raise ValueError(kind)
@@ -391,10 +399,10 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
             if CONFIGS[name]["kind"] == "collect":
                 row["attempts"] = sum(r["attempts"] for r in w.results)
         rows[name] = row
-    for name in ("vec2", "vec2-lp0"):
-        if "vec1" in workers and name in workers and workers["vec1"].results and workers[name].results:
+    for one, name in (("vec1", "vec2"), ("vec1-eph8", "vec2-eph8")):
+        if one in workers and name in workers and workers[one].results and workers[name].results:
             rows[name]["x_vec1"] = statistics.median(
-                _rate(b) / _rate(a) for a, b in zip(workers["vec1"].results, workers[name].results))
+                _rate(b) / _rate(a) for a, b in zip(workers[one].results, workers[name].results))
     return rows
 
 
@@ -425,15 +433,17 @@ def markdown(rows: dict) -> str:
                    f"{_fmt(row.get('x_oneroom'), '.2f', '1' if name == 'mw-oneroom' else '')} | "
                    f"{_fmt(row.get('reset_ms'), '.1f', 'n/a')} | {_fmt(row.get('reset_ms_mean'), '.1f', 'n/a')} | "
                    f"{_fmt(row.get('steps_per_episode'), '.1f')} |")
-    if "collect" in rows:
-        row = rows["collect"]
+    for name in ("collect", "collect-eph8"):
+        if name not in rows:
+            continue
+        row = rows[name]
         out.append("")
         if "rate" in row:
-            out.append(f"Collection (`legent-gym collect ComeHere-OneRoom-v0 --workers 1`, one core): "
+            out.append(f"Collection ({row['label']}, one core): "
                        f"**{row['rate']:.2f} successful trajectories/s** (median of rounds; "
                        f"{sum(r['episodes'] for r in row['rounds'])} trajectories in {row['attempts']} attempts).")
         else:
-            out.append(f"Collection: {row['reason']}")
+            out.append(f"Collection ({row['label']}): {row['reason']}")
     return "\n".join(out)
 
 
