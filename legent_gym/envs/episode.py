@@ -33,7 +33,8 @@ has them, doors and drawers as built, nothing held, nothing said. A house is reu
   task's conditions, e.g. ComeHere's 3 m apart, hold) and a new goal;
 * whenever the house source gives a house it gave before (a fixed ``scene`` or
   ``house_seed``, an entry of ``house_pool``, a file of a ``houses`` folder): the last
-  :data:`HOUSE_CACHE_SIZE` built houses are kept.
+  :data:`HOUSE_CACHE_SIZE` such houses are kept (with ``episodes_per_house`` 1, a house of a
+  new random seed is not).
 
 A house from a ``houses`` folder is written without a task in mind, so its every episode
 draws spawns under the task's conditions. A front end that wants each seeded episode
@@ -99,6 +100,8 @@ class HouseDraw:
     #: () -> (Scene, its NavGrid.from_scene grid or None); called only when the house is not kept.
     load: Any = field(compare=False)
     spawns_drawn: bool = False
+    #: The source may give this house again (kept for that; a new random seed is not).
+    repeats: bool = True
 
 
 class HouseSource:
@@ -154,7 +157,8 @@ class HouseSource:
         conditions = task.house_conditions(seed)
         key = ("seed", self.layout, seed, repr(sorted(conditions.items())))
         # The generator's own navigation grid of the house comes along (cheaper than a new one).
-        return HouseDraw(key, seed, lambda: generate_house_with_grid(seed, self.layout, **conditions))
+        return HouseDraw(key, seed, lambda: generate_house_with_grid(seed, self.layout, **conditions),
+                         repeats=self.house_pool is not None or self.house_seed is not None)
 
 
 @dataclass
@@ -291,7 +295,8 @@ class Episode:
         if house is not None:
             self._kept.move_to_end(draw.key)
             return house
-        return self._build(draw, keep=True)
+        # With several episodes per house, seeded resets of one block draw the same house again.
+        return self._build(draw, keep=draw.repeats or self.episodes_per_house > 1)
 
     def _build(self, draw: HouseDraw, keep: bool) -> House:
         scene, nav = draw.load()
