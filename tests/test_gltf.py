@@ -253,16 +253,39 @@ def test_orientation_test_node_transforms():
 def test_triangle_without_indices():
     model = load_quiet(sample("TriangleWithoutIndices"))
     assert model.triangle_count() == 1
-    assert len(model.base.parts[0].vertices) == 3
-    assert model.base.parts[0].rgba == (1.0, 1.0, 1.0, 1.0)  # glTF default material
-    assert model.base.parts[0].collision == "none"  # MuJoCo cannot hull a flat part
+    # MuJoCo compiles no mesh of fewer than 4 vertices: the centroid is added, used by no face.
+    part = model.base.parts[0]
+    assert len(part.vertices) == 4 and part.faces.max() == 2
+    np.testing.assert_allclose(part.vertices[3], part.vertices[:3].mean(axis=0))
+    assert part.rgba == (1.0, 1.0, 1.0, 1.0)  # glTF default material
+    assert part.collision == "box"  # MuJoCo cannot hull a flat part: a thin box from its bounds
+
+
+def test_a_mesh_of_zero_area_triangles_is_left_out(tmp_path):
+    # MuJoCo compiles no mesh without surface area: such a primitive is dropped, with a warning.
+    path = write_gltf(tmp_path / "two.gltf", [[0, 0, 0], [1, 0, 0], [2, 0, 0],
+                                              [0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]],
+                      indices=[0, 1, 2])
+    doc = json.loads(path.read_text())
+    idx = np.asarray([3, 4, 5, 3, 5, 6, 3, 6, 4, 4, 6, 5], dtype="<u2").tobytes()
+    blob = base64.b64decode(doc["buffers"][0]["uri"].split(",", 1)[1])
+    doc["bufferViews"].append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(idx)})
+    doc["accessors"].append({"bufferView": 2, "componentType": 5123, "count": 12, "type": "SCALAR"})
+    doc["buffers"][0] = {"byteLength": len(blob) + len(idx),
+                         "uri": "data:application/octet-stream;base64," + base64.b64encode(blob + idx).decode()}
+    doc["meshes"][0]["primitives"].append({"attributes": {"POSITION": 0}, "indices": 2, "mode": 4})
+    path.write_text(json.dumps(doc))
+    with pytest.warns(AssetImportWarning, match="zero-area"):
+        model = load_gltf(path)
+    assert len(model.base.parts) == 1 and model.triangle_count() == 4
 
 
 def test_flat_model_warns_it_has_no_collision(tmp_path):
     path = write_gltf(tmp_path / "quad.gltf", [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]],
                       indices=[0, 1, 2, 2, 1, 3])
-    with pytest.warns(AssetImportWarning, match="flat"):
-        load_gltf(path)
+    with pytest.warns(AssetImportWarning, match="flat.*thin box"):
+        model = load_gltf(path)
+    assert [p.collision for p in model.base.parts] == ["box"]
 
 
 @needs_samples
@@ -658,3 +681,28 @@ def test_bad_arguments(tmp_path, kwargs, message):
 
 def test_errors_are_value_errors():
     assert issubclass(AssetImportError, ValueError)
+
+
+@pytest.mark.parametrize("kind", ["static", "interactable"])
+@pytest.mark.parametrize("shape", ["triangle", "quad"])
+def test_flat_meshes_build_with_a_collision_box(tmp_path, shape, kind):
+    """MuJoCo compiles neither a hull of a flat mesh nor any mesh of 3 vertices: a flat
+    import keeps its visual mesh and collides through a thin box."""
+    from legent_gym.world.builder import GROUP_COLLISION, build_world
+    from legent_gym.world.preview import preview_scene
+    from legent_gym.world.scene import ImportedAsset
+
+    if shape == "triangle":
+        path = write_gltf(tmp_path / "tri.gltf", [[0, 0, 0], [0.3, 0, 0], [0, 0.3, 0]])
+    else:
+        path = write_gltf(tmp_path / "quad.gltf", [[0, 0, 0], [0.3, 0, 0], [0, 0.3, 0], [0.3, 0.3, 0]],
+                          indices=[0, 1, 2, 2, 1, 3])
+    imported = ImportedAsset(id="flat", source=str(path))
+    with pytest.warns(AssetImportWarning, match="flat"):
+        world = build_world(preview_scene("flat", imported=imported, kind=kind))
+    model = world.model
+    geoms = [g for g in range(model.ngeom) if world.geom_object_lookup(np.array([g]))[0] == 0]
+    collision = [g for g in geoms if model.geom_group[g] == GROUP_COLLISION]
+    visual = [g for g in geoms if model.geom_group[g] != GROUP_COLLISION]
+    assert visual and collision
+    assert all(model.geom_type[g] == 6 for g in collision)  # mjGEOM_BOX

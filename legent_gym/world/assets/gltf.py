@@ -503,6 +503,13 @@ def _mesh_part(path: Path, mesh, name: str, images: dict[int, np.ndarray | None]
     if faces.size and (faces.min() < 0 or faces.max() >= len(vertices)):
         raise AssetImportError(f"{path}: mesh {name!r} has face indices out of range")
     rgba, uv, texture, material = _appearance(path, mesh, name, images)
+    if 0 < len(vertices) < 4:
+        # MuJoCo compiles no mesh of fewer than four vertices ("at least 4 vertices
+        # required"), not even a visual one: add the centroid, used by no triangle, so the
+        # mesh compiles and looks, bounds and triangle count stay the same.
+        vertices = np.concatenate([vertices, vertices.mean(axis=0, keepdims=True)])
+        if uv is not None:
+            uv = np.concatenate([uv, uv.mean(axis=0, keepdims=True)])
     return Part(vertices, faces, rgba, "hull", uv=uv, texture=texture, material=material)
 
 
@@ -651,6 +658,13 @@ def _normalise(path: Path, parts: list[Part], size) -> list[Part]:
         raise AssetImportError(f"{path}: zero-size bounds (all vertices are at one point)")
     if sum(_face_areas(p.vertices, p.faces).sum() for p in parts) <= 0:
         raise AssetImportError(f"{path}: every triangle has zero area")
+    flat = [p for p in parts if not _face_areas(p.vertices, p.faces).any()]
+    if flat:  # MuJoCo compiles no mesh without area ("mesh surface area is too small")
+        warnings.warn(f"{path}: {len(flat)} mesh(es) with only zero-area triangles are left out",
+                      AssetImportWarning, stacklevel=4)
+        parts = [p for p in parts if all(p is not f for f in flat)]
+        bounds = _bounds(parts)
+        extent = bounds[1] - bounds[0]
     centre = bounds.mean(axis=0)
     offset = (-centre[0], -centre[1], -bounds[0][2])
     scale = 1.0
@@ -663,16 +677,21 @@ def _normalise(path: Path, parts: list[Part], size) -> list[Part]:
 
 
 def _assign_collision(path: Path, parts: list[Part]) -> list[Part]:
-    """``collision="hull"`` for solid parts, ``"none"`` for flat ones.
+    """``collision="hull"`` for solid parts, ``"box"`` for flat ones.
 
     MuJoCo refuses to build a convex hull from coplanar vertices ("mesh has coplanar
-    vertices, cannot compute convex hull") or from fewer than four, so a flat part (a
-    single quad, a decal) can only be visual.
+    vertices, cannot compute convex hull"), from fewer than four or from points enclosing
+    no volume, so a flat part (a single quad or triangle, a decal) keeps its visual mesh
+    and collides through its bounding box, which the builder grows to a thin slab (see
+    :func:`legent_gym.world.meshing.link_geometry`). A warning says so.
     """
-    out = [dataclasses.replace(p, collision="none" if _is_flat(p.vertices) else "hull") for p in parts]
-    if all(p.collision == "none" for p in out):
-        warnings.warn(f"{path}: the model is flat (all its vertices are coplanar), so it has no "
-                      "collision shape", AssetImportWarning, stacklevel=4)
+    out = [dataclasses.replace(p, collision="box" if _is_flat(p.vertices) else "hull") for p in parts]
+    flat = sum(p.collision == "box" for p in out)
+    if flat:
+        which = "the model is flat (all its vertices are coplanar)" if flat == len(out) else \
+            f"{flat} of its {len(out)} meshes are flat (coplanar vertices)"
+        warnings.warn(f"{path}: {which}, so MuJoCo cannot make a convex hull of it; it collides "
+                      "through a thin box from its bounds", AssetImportWarning, stacklevel=4)
     return out
 
 
