@@ -8,13 +8,16 @@
     legent-gym generate --preset TwoRoom --seed 0 --count 100 --out-dir houses/
     legent-gym collect ENV_ID --episodes N --out DIR [--format minari,legent,video] [--workers K] [--seed S]
 
-Errors a user can cause (a bad file, a bad argument) print one clear message and exit 2.
+Errors a user can cause (a bad file, a bad argument) print one line on stderr, naming the
+file and the problem, and exit 2; ``--debug`` (before or after the command) shows the
+traceback instead.
 """
 
 from __future__ import annotations
 
 import argparse
 import sys
+import warnings
 from pathlib import Path
 
 from legent_gym import gl_backend  # noqa: F401
@@ -22,6 +25,21 @@ from legent_gym import gl_backend  # noqa: F401
 
 class UserError(Exception):
     """A problem with the user's input: printed without a traceback."""
+
+
+#: The largest image side ``--size`` may ask for (MuJoCo's offscreen buffer is that big).
+MAX_IMAGE_SIZE = 8192
+
+
+def _check_size(size: int) -> None:
+    if not 1 <= size <= MAX_IMAGE_SIZE:
+        raise UserError(f"--size must be between 1 and {MAX_IMAGE_SIZE} pixels, got {size}")
+
+
+def _check_output(path: str) -> None:
+    """Fail before the work if ``--out`` cannot be a file."""
+    if Path(path).is_dir():
+        raise UserError(f"{path}: --out is a directory, not a file")
 
 
 def _write_png(path: str, image) -> None:
@@ -49,6 +67,8 @@ def cmd_render(args) -> int:
     from legent_gym.world.render import Renderer
     from legent_gym.world.scene import load_scene
 
+    _check_size(args.size)
+    _check_output(args.out)
     scene = load_scene(args.scene)
     if args.view == "user" and scene.user is None:
         raise UserError(f"{args.scene} has no user spawn: cannot render the user's view")
@@ -72,6 +92,10 @@ def cmd_asset_list(args) -> int:
 def cmd_asset_preview(args) -> int:
     from legent_gym.world.preview import render_asset_preview
 
+    _check_size(args.size)
+    _check_output(args.out)
+    if args.variant < 0:
+        raise UserError(f"--variant must be >= 0, got {args.variant}")
     source = Path(args.asset)
     if source.suffix.lower() in (".glb", ".gltf"):
         from legent_gym.world.assets.gltf import load_gltf
@@ -95,9 +119,18 @@ def cmd_generate(args) -> int:
     from legent_gym.world.generation import generate_house
     from legent_gym.world.scene import save_scene
 
+    if not 0 <= args.seed <= MAX_SEED:
+        raise UserError(f"--seed must be between 0 and {MAX_SEED}, got {args.seed}")
+    if args.count < 1:
+        raise UserError(f"--count must be >= 1, got {args.count}")
+    if args.seed + args.count - 1 > MAX_SEED:
+        raise UserError(f"--seed + --count - 1 must be at most {MAX_SEED}")
     if args.count == 1 and args.out_dir is None:
         if args.out is None:
             raise UserError("give --out FILE.json (or --count N --out-dir DIR for a batch)")
+        _check_output(args.out)
+        if args.map:
+            _check_output(args.map)
         scene = generate_house(args.seed, args.preset)
         save_scene(scene, args.out)
         print(f"wrote {args.out} ({len(scene.rooms)} rooms, {len(scene.objects)} objects)")
@@ -120,6 +153,10 @@ def cmd_generate(args) -> int:
         save_scene(generate_house(seed, args.preset), target)
     print(f"{args.count} houses in {out_dir}")
     return 0
+
+
+#: The largest house seed (seeds are stored in the scene and seed numpy's generators).
+MAX_SEED = 2**63 - 1
 
 
 def parse_env_kwargs(text: str | None) -> dict:
@@ -157,13 +194,18 @@ def cmd_collect(args) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="legent-gym", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
+    # --debug after the command too; SUPPRESS keeps a subcommand from resetting the flag.
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                        help="show the traceback of an error")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p = sub.add_parser("validate", help="check a scene file")
+    p = sub.add_parser("validate", parents=[common], help="check a scene file")
     p.add_argument("scene")
     p.set_defaults(func=cmd_validate)
 
-    p = sub.add_parser("render", help="render a scene to PNG")
+    p = sub.add_parser("render", parents=[common], help="render a scene to PNG")
     p.add_argument("scene")
     p.add_argument("--view", choices=["topdown", "agent", "user"], default="topdown")
     p.add_argument("--out", required=True)
@@ -171,10 +213,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", choices=["fast", "pretty"], default="pretty")
     p.set_defaults(func=cmd_render)
 
-    asset = sub.add_parser("asset", help="list or preview assets").add_subparsers(dest="asset_command", required=True)
-    p = asset.add_parser("list", help="list registered assets")
+    asset = sub.add_parser("asset", parents=[common], help="list or preview assets").add_subparsers(dest="asset_command", required=True)
+    p = asset.add_parser("list", help="list registered assets", parents=[common])
     p.set_defaults(func=cmd_asset_list)
-    p = asset.add_parser("preview", help="render one asset (a built-in id or a .glb/.gltf file)")
+    p = asset.add_parser("preview", parents=[common], help="render one asset (a built-in id or a .glb/.gltf file)")
     p.add_argument("asset")
     p.add_argument("--out", required=True)
     p.add_argument("--size", type=int, default=384)
@@ -183,7 +225,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", choices=["fast", "pretty"], default="pretty")
     p.set_defaults(func=cmd_asset_preview)
 
-    p = sub.add_parser("generate", help="generate houses procedurally")
+    p = sub.add_parser("generate", parents=[common], help="generate houses procedurally")
     p.add_argument("--preset", default="TwoRoom")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--out", help="scene JSON to write (single house)")
@@ -192,7 +234,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out-dir", help="directory for a batch")
     p.set_defaults(func=cmd_generate)
 
-    p = sub.add_parser("collect", help="record successful trajectories (of the expert by default)",
+    p = sub.add_parser("collect", parents=[common], help="record successful trajectories (of the expert by default)",
                        description="Record successful episodes of ENV_ID as Minari, LEGENT and video "
                                    "datasets; resumes what is in --out. See docs/datasets.md.")
     p.add_argument("env_id", help="e.g. Legent/ComeHere-OneRoom-v0")
@@ -221,34 +263,81 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+def _input_of(args) -> str | None:
+    """The file (or id) a command reads, which an error message names."""
+    for name in ("scene", "asset", "env_id"):
+        value = getattr(args, name, None)
+        if value:
+            return str(value)
+    value = getattr(args, "out", None) or getattr(args, "out_dir", None)
+    return None if value is None else str(value)
+
+
+def _one_line(text: str) -> str:
+    return "; ".join(line.strip() for line in text.splitlines() if line.strip()) or "(no message)"
+
+
+def _user_errors() -> tuple[type[BaseException], ...]:
+    """The error types that say what is wrong with the user's input, in their own words."""
+    from legent_gym.world.assets.gltf import AssetImportError
+    from legent_gym.world.builder import SceneBuildError
     from legent_gym.world.scene import SceneError
 
-    user_errors: tuple[type[BaseException], ...] = (UserError, SceneError, FileNotFoundError)
-    try:
-        from legent_gym.world.assets.gltf import AssetImportError
-
-        user_errors += (AssetImportError,)
-    except ImportError:
-        pass
+    errors: tuple[type[BaseException], ...] = (UserError, SceneError, AssetImportError, SceneBuildError)
     try:
         from legent_gym.world.generation import GenerationError
 
-        user_errors += (GenerationError,)
+        errors += (GenerationError,)
     except ImportError:
         pass
     try:
         from legent_gym.data.collect import CollectError
 
-        user_errors += (CollectError,)
+        errors += (CollectError,)
     except ImportError:
         pass
-    try:
-        return args.func(args)
-    except user_errors as err:
-        print(f"legent-gym: error: {err}", file=sys.stderr)
-        return 2
+    return errors
+
+
+def error_message(err: BaseException, args) -> str:
+    """One line that names the file and says what is wrong with it."""
+    from legent_gym.world.builder import SceneBuildError
+    from legent_gym.world.scene import SceneError
+
+    where = _input_of(args)
+    if isinstance(err, SceneError):
+        text = _one_line(err.summary())
+        return text if err.source or where is None else f"{where}: {text}"
+    if isinstance(err, OSError) and (err.filename2 or err.filename) is not None:
+        # os.replace(tmp, target) fails naming both: the target is the user's path.
+        return _one_line(f"{err.filename2 or err.filename}: {err.strerror or err}")
+    if isinstance(err, SceneBuildError):
+        text = str(err)
+    elif isinstance(err, _user_errors()):
+        return _one_line(str(err))
+    else:  # not foreseen: still one line, with the way to the traceback
+        text = f"unexpected {type(err).__name__}: {err} (run with --debug for the traceback)"
+    text = _one_line(text)
+    return text if where is None or where in text else f"{where}: {text}"
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None) -> None:
+    print(f"legent-gym: warning: {_one_line(str(message))}", file=sys.stderr)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    debug = getattr(args, "debug", False)
+    with warnings.catch_warnings():
+        if not debug:
+            warnings.showwarning = _show_warning
+        try:
+            return args.func(args)
+        except (Exception, RecursionError) as err:
+            if debug:
+                raise
+            print(f"legent-gym: error: {error_message(err, args)}", file=sys.stderr)
+            return 2
 
 
 if __name__ == "__main__":

@@ -83,7 +83,27 @@ MALFORMED = [
     ("infinity", json.dumps(MINIMAL).replace("[3.0, 1.0]", "[Infinity, 1.0]"), "Infinity", ""),
     ("nan via python", _with("agent.yaw", math.nan), "finite", "agent.yaw"),
     ("unknown asset", _with("objects.0.asset", "spaceship"), "unknown asset id 'spaceship'", "objects[0].asset"),
-    ("negative scale", _with("objects.0.scale", [1, -1, 1]), "greater than 0", "objects[0].scale[1]"),
+    ("negative scale", _with("objects.0.scale", [1, -1, 1]), "greater than or equal to 0.001",
+     "objects[0].scale[1]"),
+    # Pathological but well-formed: numbers whose lengths, areas or meshes overflow, nesting
+    # deeper than Python's parser goes, degenerate shapes.
+    ("huge coordinate", json.dumps(_with("rooms.0.polygon", [[0, 0], [1e308, 0], [1e308, 1e308], [0, 1e308]])),
+     "less than or equal to 10000", "rooms[0].polygon[1][0]"),
+    ("wall of overflowing length", _with("walls.0.start", [-1e308, 0]), "greater than or equal to -10000",
+     "walls[0].start[0]"),
+    ("huge size", _with("walls.0.height", 1e300), "less than or equal to 10000", "walls[0].height"),
+    ("vanishing scale", _with("objects.0.scale", [1e-300, 1, 1]), "greater than or equal to 0.001",
+     "objects[0].scale[0]"),
+    ("overflowing float", json.dumps(MINIMAL).replace("[3.0, 1.0]", "[1e400, 1.0]"), "finite", "agent.position[0]"),
+    ("huge id", _with("objects.0.id", 10**30), "less than or equal to 2147483647", "objects[0].id"),
+    ("zero light direction", _with("lights", [{"position": [1, 1, 2], "direction": [0, 0, 0]}]), "zero vector",
+     "lights[0].direction"),
+    ("zero-length wall", _with("walls.0.end", [0, 0]), "same point", "walls[0]"),
+    ("two-point room", _with("rooms.0.polygon", [[0, 0], [1, 0]]), "at least 3", "rooms[0].polygon"),
+    ("deeply nested", "[" * 100_000 + "]" * 100_000, "nested too deeply", ""),
+    ("deeply nested object", '{"a":' * 100_000 + "1" + "}" * 100_000, "nested too deeply", ""),
+    ("empty file", "", "not valid JSON", ""),
+    ("top level null", "null", "expected a JSON object", ""),
     ("duplicate object ids", _with("objects.1.id", 0), "duplicate id 0", "objects[1].id"),
     ("unknown field", _with("objects.0.colour", "red"), "Extra inputs", "objects[0].colour"),
     ("door on unknown wall", _with("doors.0.wall", "w9"), "unknown wall 'w9'", "doors[0].wall"),
@@ -113,6 +133,21 @@ def test_malformed_scene_is_rejected_with_a_named_problem(name, data, message, p
     assert message in rendered, rendered
     if path:
         assert any(p == path for p, _ in err.problems), err.problems
+
+
+def test_one_line_summary_names_the_file(tmp_path):
+    file = tmp_path / "bad.json"
+    file.write_text(json.dumps(_with("agent.position", [1e308, 1e308])))
+    with pytest.raises(SceneError) as info:
+        load_scene(file)
+    summary = info.value.summary()
+    assert "\n" not in summary and summary.startswith(f"{file}: invalid scene: agent.position[0]")
+
+
+def test_byte_order_mark_is_allowed(tmp_path):
+    file = tmp_path / "bom.json"
+    file.write_bytes(b"\xef\xbb\xbf" + json.dumps(MINIMAL).encode())
+    assert load_scene(file).agent.yaw == 90.0
 
 
 def test_missing_file_and_binary_file(tmp_path):

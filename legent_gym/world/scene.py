@@ -52,13 +52,38 @@ class SceneError(ValueError):
         lines = [f"  {path or '<scene>'}: {msg}" for path, msg in problems]
         super().__init__(f"invalid scene{where} ({len(problems)} problem(s)):\n" + "\n".join(lines))
 
+    def summary(self, limit: int = 3) -> str:
+        """One line: the file, then the first ``limit`` problems (and how many more)."""
+        shown = "; ".join(f"{path}: {msg}" if path else msg for path, msg in self.problems[:limit])
+        more = len(self.problems) - limit
+        if more > 0:
+            shown += f"; and {more} more problem(s)"
+        return f"{self.source}: invalid scene: {shown}" if self.source else f"invalid scene: {shown}"
 
-Finite = Annotated[float, Field(allow_inf_nan=False)]
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-NonNegative = Annotated[float, Field(ge=0, allow_inf_nan=False)]
+
+#: The largest coordinate or length a scene may hold, metres: a house fits in 10 km, and
+#: bounded numbers keep lengths, areas and MuJoCo's meshes finite (1e308 is finite, its
+#: square is not).
+MAX_METRES: Final = 1e4
+#: The largest angle (degrees) or joint position a scene may hold.
+MAX_ANGLE: Final = 1e6
+#: Object scale factors and imported-asset sizes below this are too small for MuJoCo to
+#: compile (it refuses meshes whose surface area is below 1e-15).
+MIN_SCALE: Final = 1e-3
+MAX_SCALE: Final = 1e3
+#: Largest integer id or seed (ids become MuJoCo names and int32 lookups).
+MAX_ID: Final = 2**31 - 1
+
+Finite = Annotated[float, Field(ge=-MAX_ANGLE, le=MAX_ANGLE, allow_inf_nan=False)]
+Coord = Annotated[float, Field(ge=-MAX_METRES, le=MAX_METRES, allow_inf_nan=False)]
+Positive = Annotated[float, Field(gt=0, le=MAX_METRES, allow_inf_nan=False)]
+NonNegative = Annotated[float, Field(ge=0, le=MAX_METRES, allow_inf_nan=False)]
+Scale = Annotated[float, Field(ge=MIN_SCALE, le=MAX_SCALE, allow_inf_nan=False)]
 Unit = Annotated[float, Field(ge=0, le=1, allow_inf_nan=False)]
-Vec2 = tuple[Finite, Finite]
-Vec3 = tuple[Finite, Finite, Finite]
+Vec2 = tuple[Coord, Coord]
+Vec3 = tuple[Coord, Coord, Coord]
+Angles = tuple[Finite, Finite, Finite]
+Id = Annotated[int, Field(ge=0, le=MAX_ID)]
 RGBA = tuple[Unit, Unit, Unit, Unit]
 RGB = tuple[Unit, Unit, Unit]
 Identifier = Annotated[str, Field(min_length=1, max_length=128, pattern=r"^[A-Za-z0-9_.:\-]+$")]
@@ -111,7 +136,7 @@ class Door(_Model):
 
     id: Identifier
     wall: Identifier
-    offset: Finite = Field(description="Centre of the opening, metres from the wall's start.")
+    offset: Coord = Field(description="Centre of the opening, metres from the wall's start.")
     width: Positive = 0.9
     height: Positive = 2.1
     leaf: bool = True
@@ -127,7 +152,7 @@ class Door(_Model):
 class Window(_Model):
     id: Identifier
     wall: Identifier
-    offset: Finite
+    offset: Coord
     width: Positive = 1.0
     height: Positive = 1.0
     sill: NonNegative = 0.9
@@ -138,7 +163,8 @@ class ImportedAsset(_Model):
 
     id: Identifier
     source: str = Field(min_length=1, description="Path to .glb/.gltf, relative to the scene file.")
-    size: Vec3 | None = Field(default=None, description="Target bounding size (x, y, z), metres.")
+    size: tuple[Scale, Scale, Scale] | None = Field(default=None,
+                                                    description="Target bounding size (x, y, z), metres.")
     up_axis: Literal["y", "z"] = "y"
     category: str | None = None
     names: list[str] = Field(default_factory=list)
@@ -154,15 +180,15 @@ class ImportedAsset(_Model):
 
 
 class ObjectInstance(_Model):
-    id: Annotated[int, Field(ge=0)]
+    id: Id
     asset: Identifier
-    variant: Annotated[int, Field(ge=0)] = Field(default=0, description="Seed of the asset's look.")
+    variant: Annotated[int, Field(ge=0, le=2**63 - 1)] = Field(default=0, description="Seed of the asset's look.")
     position: Vec3
-    rotation: Vec3 = (0.0, 0.0, 0.0)
-    scale: tuple[Positive, Positive, Positive] = (1.0, 1.0, 1.0)
+    rotation: Angles = (0.0, 0.0, 0.0)
+    scale: tuple[Scale, Scale, Scale] = (1.0, 1.0, 1.0)
     kind: ObjectKind = "static"
     #: Id of the object whose receptacle surface this one rests on (None: the floor).
-    on: Annotated[int, Field(ge=0)] | None = None
+    on: Id | None = None
     room: str | None = None
     #: Positions of articulated parts by joint name (radians for hinges, metres for slides).
     joints: dict[str, Finite] = Field(default_factory=dict)
@@ -180,6 +206,13 @@ class Light(_Model):
     directional: bool = False
     cast_shadow: bool = True
 
+    @field_validator("direction")
+    @classmethod
+    def _direction_nonzero(cls, direction):
+        if math.hypot(*direction) < 1e-9:
+            raise ValueError("a light's direction must not be the zero vector")
+        return direction
+
 
 class Style(_Model):
     """Rendering style: a preset name from :mod:`legent_gym.world.styles`."""
@@ -192,7 +225,7 @@ class Scene(_Model):
     format: Literal["legent_gym.scene"] = SCENE_FORMAT
     version: Literal[1] = SCENE_VERSION
     name: str = "house"
-    seed: int | None = None
+    seed: Annotated[int, Field(ge=-(2**63), le=2**64 - 1)] | None = None
     style: Style = Style()
     rooms: list[Room] = Field(min_length=1)
     walls: list[Wall] = Field(default_factory=list)
@@ -271,7 +304,7 @@ def _pydantic_problems(err: ValidationError) -> list[tuple[str, str]]:
     for e in err.errors(include_url=False):
         # Drop pydantic's internal union/constraint tags ("tuple[...]", "function-after").
         loc = tuple(p for p in e["loc"] if not (isinstance(p, str) and ("[" in p or "-" in p)))
-        msg = e["msg"]
+        msg = e["msg"].removeprefix("Value error, ")
         if e.get("type") in ("finite_number",):
             msg = "must be a finite number (NaN and infinity are not allowed)"
         problems.append((_format_loc(loc), msg))
@@ -379,6 +412,8 @@ def loads_scene(text: str, *, source: str | None = None, **kwargs) -> Scene:
         data = json.loads(text, parse_constant=_reject_constant)
     except json.JSONDecodeError as err:
         raise SceneError([("", f"not valid JSON: {err.msg} at line {err.lineno} column {err.colno}")], source) from None
+    except RecursionError:
+        raise SceneError([("", "not a scene: the JSON is nested too deeply")], source) from None
     except ValueError as err:
         raise SceneError([("", str(err))], source) from None
     return validate_scene(data, source=source, **kwargs)
@@ -392,7 +427,7 @@ def load_scene(path: str | os.PathLike, **kwargs) -> Scene:
     """Read and validate a scene file. Imported asset paths stay relative to the file."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # a byte order mark is allowed
     except OSError as err:
         raise SceneError([("", f"cannot read file: {err.strerror}")], str(path)) from None
     except UnicodeDecodeError:

@@ -343,6 +343,8 @@ def _read_document(path: Path) -> dict:
         document = json.loads(text)
     except (UnicodeDecodeError, json.JSONDecodeError) as err:
         raise AssetImportError(f"{path}: the glTF JSON is corrupt: {err}") from err
+    except RecursionError:
+        raise AssetImportError(f"{path}: the glTF JSON is nested too deeply") from None
     if not isinstance(document, dict):
         raise AssetImportError(f"{path}: the glTF JSON is not an object")
     asset = document.get("asset")
