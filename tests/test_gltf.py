@@ -275,7 +275,7 @@ def test_a_mesh_of_zero_area_triangles_is_left_out(tmp_path):
                          "uri": "data:application/octet-stream;base64," + base64.b64encode(blob + idx).decode()}
     doc["meshes"][0]["primitives"].append({"attributes": {"POSITION": 0}, "indices": 2, "mode": 4})
     path.write_text(json.dumps(doc))
-    with pytest.warns(AssetImportWarning, match="zero-area"):
+    with pytest.warns(AssetImportWarning, match="no surface area"):
         model = load_gltf(path)
     assert len(model.base.parts) == 1 and model.triangle_count() == 4
 
@@ -706,3 +706,19 @@ def test_flat_meshes_build_with_a_collision_box(tmp_path, shape, kind):
     visual = [g for g in geoms if model.geom_group[g] != GROUP_COLLISION]
     assert visual and collision
     assert all(model.geom_type[g] == 6 for g in collision)  # mjGEOM_BOX
+
+
+def test_a_model_too_small_to_build_is_a_clear_error(tmp_path):
+    path = write_gltf(tmp_path / "speck.gltf", np.asarray(TETRA) * 1e-7, indices=[0, 1, 2, 0, 1, 3, 0, 2, 3, 1, 2, 3])
+    with pytest.raises(AssetImportError, match=r"speck\.gltf: the model is too small"):
+        load_gltf(path)
+    load_gltf(path, size=(0.1, 0.1, 0.1))  # scaled up to a size it builds
+
+
+def test_a_thin_solid_collides_through_a_box(tmp_path):
+    # Not flat, but its hull holds less volume than MuJoCo accepts (a 1 mm sliver of 1 mm^2).
+    pts = [[0, 0, 0], [1e-3, 0, 0], [0, 1e-3, 0], [0, 0, 1e-3]]
+    path = write_gltf(tmp_path / "sliver.gltf", pts, indices=[0, 1, 2, 0, 1, 3, 0, 2, 3, 1, 2, 3])
+    with pytest.warns(AssetImportWarning, match="almost no volume"):
+        model = load_gltf(path)
+    assert [p.collision for p in model.base.parts] == ["box"]

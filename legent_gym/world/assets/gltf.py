@@ -78,6 +78,12 @@ PICKUPABLE_MAX_DIM = 0.5
 DEFAULT_RGBA = (1.0, 1.0, 1.0, 1.0)
 #: Material hints recognised in glTF material names (Part.material).
 MATERIAL_HINTS = ("wood", "fabric", "metal", "plastic", "ceramic", "glass", "leather", "stone")
+#: Meshes with less surface (m^2) are left out: MuJoCo compiles none under 1e-15 m^2, and a
+#: scene may scale an object down by 1e-3 per axis.
+MIN_MESH_AREA = 1e-8
+#: Parts whose convex hull holds less (m^3) collide through a box: MuJoCo refuses hulls
+#: under 1e-15 m^3 ("mesh volume is too small").
+MIN_HULL_VOLUME = 1e-9
 #: Required glTF extensions whose geometry trimesh cannot decode.
 _UNSUPPORTED_EXTENSIONS = {"EXT_meshopt_compression": "meshopt-compressed geometry"}
 
@@ -660,20 +666,25 @@ def _normalise(path: Path, parts: list[Part], size) -> list[Part]:
         raise AssetImportError(f"{path}: zero-size bounds (all vertices are at one point)")
     if sum(_face_areas(p.vertices, p.faces).sum() for p in parts) <= 0:
         raise AssetImportError(f"{path}: every triangle has zero area")
-    flat = [p for p in parts if not _face_areas(p.vertices, p.faces).any()]
-    if flat:  # MuJoCo compiles no mesh without area ("mesh surface area is too small")
-        warnings.warn(f"{path}: {len(flat)} mesh(es) with only zero-area triangles are left out",
-                      AssetImportWarning, stacklevel=4)
-        parts = [p for p in parts if all(p is not f for f in flat)]
-        bounds = _bounds(parts)
-        extent = bounds[1] - bounds[0]
-    centre = bounds.mean(axis=0)
-    offset = (-centre[0], -centre[1], -bounds[0][2])
     scale = 1.0
     if size is not None:
         # Only axes with extent constrain the scale: a flat model fits any thickness.
         usable = extent > 1e-9 * extent.max()
         scale = float(np.min(np.asarray(size)[usable] / extent[usable]))
+    # MuJoCo compiles no mesh of (almost) no area ("mesh surface area is too small").
+    areas = [float(_face_areas(p.vertices, p.faces).sum()) * scale**2 for p in parts]
+    if max(areas) < MIN_MESH_AREA:
+        raise AssetImportError(f"{path}: the model is too small to build: its largest mesh has "
+                               f"{max(areas):.3g} m^2 of surface, under the {MIN_MESH_AREA:g} m^2 MuJoCo can "
+                               "compile (are its units metres? give it a size)")
+    small = sum(a < MIN_MESH_AREA for a in areas)
+    if small:
+        warnings.warn(f"{path}: {small} mesh(es) with (almost) no surface area are left out",
+                      AssetImportWarning, stacklevel=4)
+        parts = [p for p, a in zip(parts, areas) if a >= MIN_MESH_AREA]
+        bounds = _bounds(parts)
+    centre = bounds.mean(axis=0)
+    offset = (-centre[0], -centre[1], -bounds[0][2])
     matrix = _affine(np.eye(3), offset, scale)
     return [p.transformed(matrix) for p in parts]
 
@@ -689,12 +700,29 @@ def _assign_collision(path: Path, parts: list[Part]) -> list[Part]:
     """
     out = [dataclasses.replace(p, collision="box" if _is_flat(p.vertices) else "hull") for p in parts]
     flat = sum(p.collision == "box" for p in out)
-    if flat:
-        which = "the model is flat (all its vertices are coplanar)" if flat == len(out) else \
-            f"{flat} of its {len(out)} meshes are flat (coplanar vertices)"
+    out = [dataclasses.replace(p, collision="box") if p.collision == "hull" and _hull_volume(p.vertices)
+           < MIN_HULL_VOLUME else p for p in out]
+    thin = sum(p.collision == "box" for p in out) - flat
+    if flat or thin:
+        if flat == len(out):
+            which = "the model is flat (all its vertices are coplanar)"
+        elif thin == len(out):
+            which = f"the model encloses almost no volume (under {MIN_HULL_VOLUME:g} m^3)"
+        else:
+            which = f"{flat + thin} of its {len(out)} meshes are flat or enclose almost no volume"
         warnings.warn(f"{path}: {which}, so MuJoCo cannot make a convex hull of it; it collides "
                       "through a thin box from its bounds", AssetImportWarning, stacklevel=4)
     return out
+
+
+def _hull_volume(vertices: np.ndarray) -> float:
+    """The volume of the points' convex hull (0 where qhull finds none)."""
+    from scipy.spatial import ConvexHull, QhullError
+
+    try:
+        return float(ConvexHull(vertices).volume)
+    except (QhullError, ValueError):
+        return 0.0
 
 
 def _is_flat(vertices: np.ndarray) -> bool:
