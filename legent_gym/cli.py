@@ -38,8 +38,14 @@ def _check_size(size: int) -> None:
 
 def _check_output(path: str) -> None:
     """Fail before the work if ``--out`` cannot be a file."""
-    if Path(path).is_dir():
+    target = Path(path)
+    if target.is_dir():
         raise UserError(f"{path}: --out is a directory, not a file")
+    for parent in target.parents:
+        if parent.exists():
+            if not parent.is_dir():
+                raise UserError(f"{path}: {parent} is a file, not a directory")
+            break
 
 
 def _write_png(path: str, image) -> None:
