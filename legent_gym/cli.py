@@ -339,7 +339,7 @@ def main(argv: list[str] | None = None) -> int:
             warnings.showwarning = _show_warning
         try:
             return args.func(args)
-        except (Exception, RecursionError) as err:
+        except Exception as err:  # errors in the input, in its words; anything else says so (see error_message)
             if debug:
                 raise
             print(f"legent-gym: error: {error_message(err, args)}", file=sys.stderr)
