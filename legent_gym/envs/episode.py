@@ -37,15 +37,14 @@ has them, doors and drawers as built, nothing held, nothing said. A house is reu
   new random seed is not).
 
 A house from a ``houses`` folder is written without a task in mind, so its every episode
-draws spawns under the task's conditions. A front end that wants each seeded episode
-to depend on its seed alone passes :meth:`Episode.begin` a ``house_rng`` and the
-episode's index in its house (``HouseholdEnv`` does: seeds ``s`` with one ``s // K``
-share a house).
+draws spawns under the task's conditions. A seeded episode (:meth:`Episode.begin` with
+``seed``) depends on its seed alone: seeds ``s`` with one ``s // K`` share a house.
 """
 
 from __future__ import annotations
 
 from collections import OrderedDict
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -85,6 +84,9 @@ HOUSE_RETRIES = 20
 HOUSE_CACHE_SIZE = 8
 #: New spawns tried in a kept house before a house with no goal for them is left.
 SPAWN_RETRIES = 3
+#: Mixed into the seed of the generator that draws a block of seeded episodes' house, so
+#: that it is not the stream of any episode's own seed.
+HOUSE_STREAM = 0x4E05E
 #: The body method behind each interaction primitive (each takes an optional target).
 BODY_METHOD = {Interact: "interact", Grab: "grab", Put: "put", Open: "open", Close: "close"}
 
@@ -98,7 +100,7 @@ class HouseDraw:
     key: tuple
     seed: int | None
     #: () -> (Scene, its NavGrid.from_scene grid or None); called only when the house is not kept.
-    load: Any = field(compare=False)
+    load: Callable[[], tuple[Scene, NavGrid | None]] = field(compare=False)
     spawns_drawn: bool = False
     #: The source may give this house again (kept for that; a new random seed is not).
     repeats: bool = True
@@ -158,7 +160,7 @@ class HouseSource:
         key = ("seed", self.layout, seed, repr(sorted(conditions.items())))
         # The generator's own navigation grid of the house comes along (cheaper than a new one).
         return HouseDraw(key, seed, lambda: generate_house_with_grid(seed, self.layout, **conditions),
-                         repeats=self.house_pool is not None or self.house_seed is not None)
+                         repeats=self.seed_fixed)
 
 
 @dataclass
@@ -215,13 +217,16 @@ class Episode:
         #: The current house, goal and their context; None before the first :meth:`begin`.
         self.ctx: TaskContext | None = None
         self.goal: TaskInstance | None = None
-        #: The generation seed of the current house (None for a fixed scene).
-        self.house_seed: int | None = None
         #: The house of the current episode.
         self.house: House | None = None
         self._kept: OrderedDict[tuple, House] = OrderedDict()
         self._renderer: Renderer | None = None
         self._renderer_world: World | None = None
+
+    @property
+    def house_seed(self) -> int | None:
+        """The generation seed of the current house (None for a scene given as it is)."""
+        return None if self.house is None else self.house.seed
 
     @property
     def kept_houses(self) -> int:
@@ -246,18 +251,24 @@ class Episode:
         return self.goal
 
     # -- 1. house draw, set-up and goal --------------------------------------------------------
-    def begin(self, rng: np.random.Generator, scene: Scene | None = None, *,
-              house_rng: np.random.Generator | None = None, index_in_house: int = 0) -> int:
+    def begin(self, rng: np.random.Generator, scene: Scene | None = None, *, seed: int | None = None) -> int:
         """Start an episode: a house (``scene`` if given; else the current house while it
         has episodes left of ``episodes_per_house``; else one from :attr:`houses`), set up
         or restored, and a goal in it, drawing another house while one offers none.
-        Returns the number of houses tried. Every draw comes from ``rng``, except, when
-        ``house_rng`` is given, the house itself: then a house is drawn from ``house_rng``
-        (a kept one is taken as it is) and this is its episode ``index_in_house`` (0: at
-        the scene's spawns), whatever came before."""
+        Returns the number of houses tried. Every draw comes from ``rng`` (seeded with
+        ``seed`` by the caller, if ``seed`` is given).
+
+        With a ``seed`` the episode depends on the seed alone, whatever came before: seeds
+        ``s`` with one ``s // K`` (``K`` = ``episodes_per_house``) share a house, drawn from
+        a generator of that block (a kept one is taken as it is), and ``s`` is episode
+        ``s % K`` in it (0: at the house's own spawns)."""
         failure = None
-        current = None if house_rng is not None or scene is not None else self.house
-        house_rng = rng if house_rng is None else house_rng
+        current = None if seed is not None or scene is not None else self.house
+        house_rng, index_in_house = rng, 0
+        if seed is not None:
+            block, index_in_house = divmod(int(seed), self.episodes_per_house)
+            if self.episodes_per_house > 1:
+                house_rng = np.random.default_rng([block, self.episodes_per_house, HOUSE_STREAM])
         for attempt in range(HOUSE_RETRIES):
             if scene is not None:
                 house = self._build(HouseDraw(("given", id(scene)), None, lambda: (scene, None)), keep=False)
@@ -282,7 +293,6 @@ class Episode:
                 self.goal = self.task.sample(ctx, rng)
                 if self.goal is not None:
                     house.episodes += 1
-                    self.house_seed = house.seed
                     return attempt + 1
             if not drawn_spawns and (scene is not None or self.houses.house_fixed):
                 raise ValueError(f"task {self.task.name} has no valid goal in house {house.scene.name!r}")

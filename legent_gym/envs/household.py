@@ -38,9 +38,6 @@ CAMERA_PRESETS = {
 }
 #: The longest instruction or message an observation holds (characters).
 MAX_TEXT = 500
-#: Mixed into the seed of the generator that draws a block of episodes' house, so that it
-#: is not the stream of any episode's own seed.
-HOUSE_STREAM = 0x4E05E
 
 
 class HouseholdEnv(gym.Env):
@@ -208,15 +205,8 @@ class HouseholdEnv(gym.Env):
         scene = options.get("scene")
         if scene is not None and not isinstance(scene, Scene):
             scene = load_scene(scene)
-        house_rng, index = None, 0
-        if seed is not None:
-            # The same seed, the same episode, whatever came before: with one house for K
-            # episodes, seeds s and s' share a house when s // K == s' // K, and s is
-            # episode s % K in it (0: at the house's own spawns).
-            block, index = divmod(int(seed), self.episode.episodes_per_house)
-            house_rng = (self.np_random if self.episode.episodes_per_house == 1
-                         else np.random.default_rng([block, self.episode.episodes_per_house, HOUSE_STREAM]))
-        attempts = self.episode.begin(self.np_random, scene, house_rng=house_rng, index_in_house=index)
+        # The same seed, the same episode, whatever came before (see Episode.begin).
+        attempts = self.episode.begin(self.np_random, scene, seed=seed)
         self._n_actions = 0
         evaluation = self.episode.judge()
         self._last_distance = distance = self.distance_left()
