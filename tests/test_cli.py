@@ -168,6 +168,11 @@ BAD_SCENES = {
     "unknown asset": _json_file(_scene(objects__0__asset="spaceship")),
     "a directory": lambda tmp_path: (tmp_path / "bad scene.json").mkdir() or tmp_path / "bad scene.json",
     "missing file": lambda tmp_path: tmp_path / "bad scene.json",
+    "a device": lambda tmp_path: Path("/dev/zero"),
+    "too many objects": _json_file(_scene(objects=[{**_scene()["objects"][0], "id": i} for i in range(10_001)])),
+    "asset URL": _json_file(_scene(assets=[{"id": "x", "source": "https://example.com/x.glb"}])),
+    "asset outside the folder": _json_file(_scene(assets=[{"id": "x", "source": "../x.glb"}])),
+    "asset on a device": _json_file(_scene(assets=[{"id": "x", "source": "/dev/zero"}])),
 }
 
 

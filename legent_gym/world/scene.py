@@ -25,6 +25,8 @@ from __future__ import annotations
 import json
 import math
 import os
+import re
+import stat
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Annotated, Any, Final, Literal
@@ -74,6 +76,22 @@ MAX_SCALE: Final = 1e3
 #: Largest integer id or seed (ids become MuJoCo names and int32 lookups).
 MAX_ID: Final = 2**31 - 1
 
+#: The largest scene file (or JSON text) accepted, bytes: a generated house is tens of KB.
+MAX_SCENE_BYTES: Final = 32 * 1024 * 1024
+#: The most entries each list of a scene may hold; a longer list is refused by name before
+#: anything is built. Lights: MuJoCo draws at most 100 (``mjMAXLIGHT``).
+MAX_ROOMS: Final = 1_000
+MAX_POLYGON_POINTS: Final = 10_000
+MAX_WALLS: Final = 10_000
+MAX_OPENINGS: Final = 10_000  # doors, and windows
+MAX_OBJECTS: Final = 10_000
+MAX_IMPORTED_ASSETS: Final = 1_000
+MAX_LIGHTS: Final = 100
+MAX_JOINTS: Final = 1_000  # joint positions of one object
+MAX_NAMES: Final = 100  # names of one imported asset
+#: Imported-asset files end in one of these.
+ASSET_SUFFIXES: Final = (".gltf", ".glb")
+
 Finite = Annotated[float, Field(ge=-MAX_ANGLE, le=MAX_ANGLE, allow_inf_nan=False)]
 Coord = Annotated[float, Field(ge=-MAX_METRES, le=MAX_METRES, allow_inf_nan=False)]
 Positive = Annotated[float, Field(gt=0, le=MAX_METRES, allow_inf_nan=False)]
@@ -104,7 +122,8 @@ class Room(_Model):
     id: Identifier
     type: str = Field(min_length=1, description="bedroom, living_room, kitchen, ...")
     name: str = Field(min_length=1, description="What people call it: 'bedroom'.")
-    polygon: list[Vec2] = Field(min_length=3, description="Floor outline, metres, CCW.")
+    polygon: list[Vec2] = Field(min_length=3, max_length=MAX_POLYGON_POINTS,
+                                description="Floor outline, metres, CCW.")
     floor: Surface = Surface(material="wood", rgba=(0.62, 0.48, 0.33, 1.0))
     wall: Surface = Surface(material="paint", rgba=(0.9, 0.88, 0.84, 1.0))
 
@@ -162,14 +181,23 @@ class ImportedAsset(_Model):
     """A user glTF/GLB file used by this scene, with its annotations."""
 
     id: Identifier
-    source: str = Field(min_length=1, description="Path to .glb/.gltf, relative to the scene file.")
+    source: str = Field(min_length=1, max_length=4096,
+                        description="Path to .glb/.gltf, relative to the scene file.")
     size: tuple[Scale, Scale, Scale] | None = Field(default=None,
                                                     description="Target bounding size (x, y, z), metres.")
     up_axis: Literal["y", "z"] = "y"
     category: str | None = None
-    names: list[str] = Field(default_factory=list)
+    names: list[str] = Field(default_factory=list, max_length=MAX_NAMES)
     pickupable: bool | None = None
     mass: Positive | None = None
+
+    @field_validator("source")
+    @classmethod
+    def _source_is_a_gltf_path(cls, source: str) -> str:
+        problem = source_problem(source, relative_only=False)
+        if problem:
+            raise ValueError(problem)
+        return source
 
     @field_validator("size")
     @classmethod
@@ -191,7 +219,7 @@ class ObjectInstance(_Model):
     on: Id | None = None
     room: str | None = None
     #: Positions of articulated parts by joint name (radians for hinges, metres for slides).
-    joints: dict[str, Finite] = Field(default_factory=dict)
+    joints: dict[str, Finite] = Field(default_factory=dict, max_length=MAX_JOINTS)
 
 
 class Spawn(_Model):
@@ -227,15 +255,15 @@ class Scene(_Model):
     name: str = "house"
     seed: Annotated[int, Field(ge=-(2**63), le=2**64 - 1)] | None = None
     style: Style = Style()
-    rooms: list[Room] = Field(min_length=1)
-    walls: list[Wall] = Field(default_factory=list)
-    doors: list[Door] = Field(default_factory=list)
-    windows: list[Window] = Field(default_factory=list)
-    assets: list[ImportedAsset] = Field(default_factory=list)
-    objects: list[ObjectInstance] = Field(default_factory=list)
+    rooms: list[Room] = Field(min_length=1, max_length=MAX_ROOMS)
+    walls: list[Wall] = Field(default_factory=list, max_length=MAX_WALLS)
+    doors: list[Door] = Field(default_factory=list, max_length=MAX_OPENINGS)
+    windows: list[Window] = Field(default_factory=list, max_length=MAX_OPENINGS)
+    assets: list[ImportedAsset] = Field(default_factory=list, max_length=MAX_IMPORTED_ASSETS)
+    objects: list[ObjectInstance] = Field(default_factory=list, max_length=MAX_OBJECTS)
     agent: Spawn
     user: Spawn | None = None
-    lights: list[Light] = Field(default_factory=list)
+    lights: list[Light] = Field(default_factory=list, max_length=MAX_LIGHTS)
     # Where relative imported-asset paths resolve from: not part of the format, so a
     # private attribute (never serialised), read and set through ``base_dir``.
     _base_dir: Path | None = PrivateAttr(default=None)
@@ -407,7 +435,16 @@ def validate_scene(data: Any, *, asset_known: AssetLookup | None | Literal["regi
     return scene
 
 
-def loads_scene(text: str, *, source: str | None = None, **kwargs) -> Scene:
+def loads_scene(text: str, *, source: str | None = None, base_dir: str | os.PathLike | None = None,
+                **kwargs) -> Scene:
+    """Parse and validate scene JSON text, as :func:`load_scene` does a file's.
+
+    Imported-asset sources must be relative paths that stay inside ``base_dir`` (symbolic
+    links are followed when ``base_dir`` is given); see :func:`check_asset_sources`.
+    """
+    if len(text) > MAX_SCENE_BYTES:
+        raise SceneError([("", f"the text is {len(text)} characters long, more than the {MAX_SCENE_BYTES} "
+                               "a scene may have (MAX_SCENE_BYTES)")], source)
     try:
         data = json.loads(text, parse_constant=_reject_constant)
     except json.JSONDecodeError as err:
@@ -416,7 +453,11 @@ def loads_scene(text: str, *, source: str | None = None, **kwargs) -> Scene:
         raise SceneError([("", "not a scene: the JSON is nested too deeply")], source) from None
     except ValueError as err:
         raise SceneError([("", str(err))], source) from None
-    return validate_scene(data, source=source, **kwargs)
+    scene = validate_scene(data, source=source, **kwargs)
+    problems = check_asset_sources(scene, base_dir)
+    if problems:
+        raise SceneError(problems, source)
+    return scene
 
 
 def _reject_constant(name: str):
@@ -424,18 +465,89 @@ def _reject_constant(name: str):
 
 
 def load_scene(path: str | os.PathLike, **kwargs) -> Scene:
-    """Read and validate a scene file. Imported asset paths stay relative to the file."""
+    """Read and validate a scene file. Imported asset paths stay relative to the file.
+
+    The file must be a regular file of at most :data:`MAX_SCENE_BYTES` bytes of UTF-8 (a
+    byte order mark is allowed); its imported assets must lie in its own folder.
+    """
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")  # a byte order mark is allowed
+        info = os.stat(path)  # before opening: opening a FIFO would wait for a writer
+        if not stat.S_ISREG(info.st_mode):
+            raise SceneError([("", "not a regular file (a directory, device or pipe)")], str(path))
+        if info.st_size > MAX_SCENE_BYTES:
+            raise SceneError([("", f"the file is {info.st_size} bytes, more than the {MAX_SCENE_BYTES} "
+                                   "a scene may have (MAX_SCENE_BYTES)")], str(path))
+        with open(path, "rb") as file:
+            data = file.read(MAX_SCENE_BYTES + 1)
     except OSError as err:
-        raise SceneError([("", f"cannot read file: {err.strerror}")], str(path)) from None
+        raise SceneError([("", f"cannot read file: {err.strerror or err}")], str(path)) from None
+    if len(data) > MAX_SCENE_BYTES:  # grew since the stat
+        raise SceneError([("", f"the file is more than the {MAX_SCENE_BYTES} bytes a scene may have "
+                               "(MAX_SCENE_BYTES)")], str(path))
+    try:
+        text = data.decode("utf-8-sig")  # a byte order mark is allowed
     except UnicodeDecodeError:
         raise SceneError([("", "file is not UTF-8 text")], str(path)) from None
-    scene = loads_scene(text, source=str(path), **kwargs)
+    base_dir = path.parent.resolve()
+    scene = loads_scene(text, source=str(path), base_dir=base_dir, **kwargs)
     # Remember where the file was, so relative asset sources resolve (not serialised).
-    scene.base_dir = path.parent.resolve()
+    scene.base_dir = base_dir
     return scene
+
+
+_URL_SCHEME = re.compile(r"^[A-Za-z][A-Za-z0-9+.\-]*:")
+
+
+def source_problem(source: str, *, relative_only: bool = True) -> str | None:
+    """What is wrong with an imported-asset ``source`` path, or None.
+
+    Refused always: URLs (anything starting ``scheme:``, e.g. ``http:``, ``file:``,
+    ``data:``), control characters, names not ending in ``.gltf`` / ``.glb``. With
+    ``relative_only`` (a scene read from a file or text) also absolute paths, ``~`` and
+    ``..`` that climbs out of the scene's folder.
+    """
+    if any(ord(c) < 32 or ord(c) == 127 for c in source):
+        return f"{source!r} contains a control character"
+    scheme = _URL_SCHEME.match(source)
+    if scheme:
+        return f"{source[:80]!r} is a URL ({scheme.group(0)}); only files in the scene's folder are read"
+    if not source.lower().endswith(ASSET_SUFFIXES):
+        return f"{source[:80]!r} must name a .gltf or .glb file"
+    if relative_only:
+        if source.startswith(("/", "\\", "~")):
+            return f"{source[:80]!r} is an absolute path; a scene refers only to files in its own folder"
+        depth = 0
+        for part in source.replace("\\", "/").split("/"):
+            depth += -1 if part == ".." else 0 if part in ("", ".") else 1
+            if depth < 0:
+                return f"{source[:80]!r} leaves the scene's folder (..); a scene refers only to files in its own folder"
+    return None
+
+
+def check_asset_sources(scene: Scene, base_dir: str | os.PathLike | None = None) -> list[tuple[str, str]]:
+    """``(path, message)`` for each imported asset whose source a scene file may not use.
+
+    Every source must pass :func:`source_problem` with ``relative_only``; with a
+    ``base_dir`` the source resolved against it (symbolic links followed) must also stay
+    inside it and, where it exists, be a regular file (not a device, pipe or directory).
+    """
+    problems: list[tuple[str, str]] = []
+    base = None if base_dir is None else Path(base_dir).resolve()
+    for i, asset in enumerate(scene.assets):
+        problem = source_problem(asset.source)
+        if problem is None and base is not None:
+            try:
+                target = (base / asset.source).resolve()
+                if not target.is_relative_to(base):
+                    problem = f"{asset.source!r} leads out of the scene's folder (to {target})"
+                elif target.exists() and not target.is_file():
+                    problem = f"{asset.source!r} is not a regular file (a directory, device or pipe)"
+            except (OSError, RuntimeError) as err:  # RuntimeError: a symbolic link loop
+                problem = f"{asset.source!r} cannot be resolved: {err}"
+        if problem:
+            problems.append((f"assets[{i}].source", problem))
+    return problems
 
 
 def save_scene(scene: Scene, path: str | os.PathLike) -> None:

@@ -84,6 +84,15 @@ MIN_MESH_AREA = 1e-8
 #: Parts whose convex hull holds less (m^3) collide through a box: MuJoCo refuses hulls
 #: under 1e-15 m^3 ("mesh volume is too small").
 MIN_HULL_VOLUME = 1e-9
+#: Bounds on what one file may hold, so that a hostile file fails with a message naming
+#: the file and the bound rather than exhausting memory: the .gltf/.glb file and each
+#: buffer file it refers to (bytes), the vertices over every node instance (the declared
+#: POSITION counts are checked before anything is decoded), the images, and the nodes,
+#: meshes, accessors and primitives.
+MAX_GLTF_BYTES = 256 * 1024 * 1024
+MAX_VERTICES = 2_000_000
+MAX_IMAGES = 64
+MAX_GLTF_ITEMS = 100_000
 #: Required glTF extensions whose geometry trimesh cannot decode.
 _UNSUPPORTED_EXTENSIONS = {"EXT_meshopt_compression": "meshopt-compressed geometry"}
 
@@ -174,12 +183,22 @@ def load_imported_asset(asset, base_dir: str | Path) -> AssetModel:
     """The model of a scene's :class:`~legent_gym.world.scene.ImportedAsset` entry.
 
     ``asset.source`` is resolved against ``base_dir`` (the scene file's folder) unless it
-    is absolute. The model is named ``asset.id``; the import itself is cached as in
-    :func:`load_gltf`. This is what the scene builder calls for imported assets.
+    is absolute; a relative source that leads out of ``base_dir`` (through ``..`` or a
+    symbolic link) raises :class:`AssetImportError`. The model is named ``asset.id``; the
+    import itself is cached as in :func:`load_gltf`. This is what the scene builder calls
+    for imported assets.
     """
     path = Path(asset.source)
     if not path.is_absolute():
-        path = Path(base_dir) / path
+        base = Path(base_dir).resolve()
+        path = base / path
+        try:
+            inside = path.resolve().is_relative_to(base)
+        except (OSError, RuntimeError) as err:  # RuntimeError: a symbolic link loop
+            raise AssetImportError(f"{path}: cannot resolve the path: {err}") from err
+        if not inside:
+            raise AssetImportError(f"{path}: leads out of the scene's folder {base} (to "
+                                   f"{path.resolve()}); a scene refers only to files in its own folder")
     model = load_gltf(path, size=asset.size, up_axis=asset.up_axis, category=asset.category,
                       names=list(asset.names) or None, pickupable=asset.pickupable,
                       mass=asset.mass)
@@ -338,10 +357,7 @@ def _read_document(path: Path) -> dict:
     suffix = path.suffix.lower()
     if suffix not in (".gltf", ".glb"):
         raise AssetImportError(f"{path}: not a glTF file (expected a .gltf or .glb extension)")
-    try:
-        data = path.read_bytes()
-    except OSError as err:
-        raise AssetImportError(f"{path}: cannot read the file: {err.strerror or err}") from err
+    data = _read_bounded(path, path, "the file")
     if suffix == ".gltf" and data[:4] == _GLB_MAGIC:
         raise AssetImportError(f"{path}: this is a binary GLB file; give it the .glb extension")
     text, binary = _glb_chunks(path, data) if suffix == ".glb" else (data, None)
@@ -361,9 +377,74 @@ def _read_document(path: Path) -> dict:
         if ext in _UNSUPPORTED_EXTENSIONS:
             raise AssetImportError(f"{path}: requires {ext} ({_UNSUPPORTED_EXTENSIONS[ext]}), "
                                    "which cannot be decoded")
+    _check_counts(path, document)
     _check_external_files(path, document)
     _check_images(path, document, binary)
     return document
+
+
+def _check_file(path: Path, target: Path, what: str) -> None:
+    """``target`` (the file itself or one it refers to) must be a regular file of at most
+    ``MAX_GLTF_BYTES``; errors name ``path`` and ``what``. Asked before opening: opening a
+    FIFO would wait for a writer, and reading a device may not end."""
+    import os
+    import stat
+
+    try:
+        info = os.stat(target)
+    except OSError as err:
+        raise AssetImportError(f"{path}: cannot read {what}: {err.strerror or err}") from err
+    if not stat.S_ISREG(info.st_mode):
+        raise AssetImportError(f"{path}: {what} is not a regular file (a directory, device or pipe)")
+    if info.st_size > MAX_GLTF_BYTES:
+        raise AssetImportError(f"{path}: {what} is {info.st_size} bytes, more than the "
+                               f"{MAX_GLTF_BYTES} an asset may have (MAX_GLTF_BYTES)")
+
+
+def _read_bounded(path: Path, target: Path, what: str) -> bytes:
+    """The bytes of ``target``, checked by :func:`_check_file` first."""
+    _check_file(path, target, what)
+    try:
+        with open(target, "rb") as file:
+            data = file.read(MAX_GLTF_BYTES + 1)
+    except OSError as err:
+        raise AssetImportError(f"{path}: cannot read {what}: {err.strerror or err}") from err
+    if len(data) > MAX_GLTF_BYTES:  # grew since the check
+        raise AssetImportError(f"{path}: {what} is more than the {MAX_GLTF_BYTES} bytes an asset may "
+                               "have (MAX_GLTF_BYTES)")
+    return data
+
+
+def _check_counts(path: Path, document: dict) -> None:
+    """Refuse documents over the item, image and declared-vertex bounds, by name."""
+    for key in ("nodes", "meshes", "accessors", "bufferViews", "buffers", "materials", "textures",
+                "images", "scenes"):
+        items = document.get(key)
+        if items is None:
+            continue
+        if not isinstance(items, list):
+            raise AssetImportError(f"{path}: the glTF {key!r} is not a list")
+        limit = MAX_IMAGES if key in ("images", "textures") else MAX_GLTF_ITEMS
+        if len(items) > limit:
+            bound = "MAX_IMAGES" if limit == MAX_IMAGES else "MAX_GLTF_ITEMS"
+            raise AssetImportError(f"{path}: {len(items)} {key}, more than the {limit} an asset may "
+                                   f"have ({bound})")
+    accessors = document.get("accessors") or []
+    declared = primitives = 0
+    for mesh in document.get("meshes") or []:
+        for prim in (mesh.get("primitives") or []) if isinstance(mesh, dict) else []:
+            primitives += 1
+            attributes = prim.get("attributes") if isinstance(prim, dict) else None
+            index = attributes.get("POSITION") if isinstance(attributes, dict) else None
+            if isinstance(index, int) and 0 <= index < len(accessors) and isinstance(accessors[index], dict):
+                count = accessors[index].get("count", 0)
+                declared += count if isinstance(count, int) and count > 0 else 0
+    if primitives > MAX_GLTF_ITEMS:
+        raise AssetImportError(f"{path}: {primitives} mesh primitives, more than the {MAX_GLTF_ITEMS} "
+                               "an asset may have (MAX_GLTF_ITEMS)")
+    if declared > MAX_VERTICES:
+        raise AssetImportError(f"{path}: its meshes declare {declared} vertices, more than the "
+                               f"{MAX_VERTICES} an asset may have (MAX_VERTICES)")
 
 
 def _glb_chunks(path: Path, data: bytes) -> tuple[bytes, bytes | None]:
@@ -394,15 +475,42 @@ def _glb_chunks(path: Path, data: bytes) -> tuple[bytes, bytes | None]:
 
 
 def _check_external_files(path: Path, document: dict) -> None:
-    """Every buffer the file refers to by URI must exist next to it (images: see below)."""
-    for entry in document.get("buffers", []) or []:
-        uri = entry.get("uri") if isinstance(entry, dict) else None
-        if not uri or uri.startswith("data:"):
-            continue
-        if "://" in uri:
-            raise AssetImportError(f"{path}: remote buffer URI {uri!r} is not supported")
-        if not (path.parent / unquote(uri)).is_file():
-            raise AssetImportError(f"{path}: refers to a missing buffer file {uri!r}")
+    """Every buffer and image URI must be a base64 data URI or a relative path to a regular
+    file inside the file's own folder; buffer files must exist and be within
+    ``MAX_GLTF_BYTES``. Anything else (``http:``, ``file:`` or other URLs, absolute paths,
+    ``..`` or symbolic links out of the folder, devices) is refused."""
+    folder = path.parent.resolve()
+    for kind in ("buffers", "images"):
+        for index, entry in enumerate(document.get(kind) or []):
+            uri = entry.get("uri") if isinstance(entry, dict) else None
+            if uri is None:
+                continue
+            what = f"{kind[:-1]} {index}"
+            if not isinstance(uri, str) or not uri:
+                raise AssetImportError(f"{path}: {what} has a uri that is not a non-empty string")
+            if uri.startswith("data:"):
+                if ";base64," not in uri.partition(",")[0] + ",":
+                    raise AssetImportError(f"{path}: {what} has a data URI that is not base64 "
+                                           "(glTF embeds data as data:<type>;base64,...)")
+                continue
+            if re.match(r"^[A-Za-z][A-Za-z0-9+.\-]*:", uri) or "://" in uri:
+                raise AssetImportError(f"{path}: {what} refers to the URL {uri[:80]!r}; only files "
+                                       "beside the asset are read")
+            name = unquote(uri)
+            if "\0" in name or name.startswith(("/", "\\")):
+                raise AssetImportError(f"{path}: {what} refers to the absolute path {uri[:80]!r}; only "
+                                       "files beside the asset are read")
+            try:
+                target = (folder / name).resolve()
+            except (OSError, RuntimeError) as err:  # RuntimeError: a symbolic link loop
+                raise AssetImportError(f"{path}: {what} uri {uri[:80]!r} cannot be resolved: {err}") from err
+            if not target.is_relative_to(folder):
+                raise AssetImportError(f"{path}: {what} refers to {uri[:80]!r}, outside the asset's folder")
+            if not target.exists():
+                if kind == "images":
+                    continue  # a missing image is a warning (see _check_images)
+                raise AssetImportError(f"{path}: refers to a missing buffer file {uri!r}")
+            _check_file(path, target, f"{kind[:-1]} file {uri[:80]!r}")
 
 
 def _check_images(path: Path, document: dict, binary: bytes | None) -> None:
@@ -449,7 +557,7 @@ def _uri_bytes(path: Path, uri: str) -> bytes:
         return base64.b64decode(payload) if header.endswith(";base64") else unquote(payload).encode()
     if "://" in uri:
         raise ValueError(f"remote URI {uri!r} is not supported")
-    return (path.parent / unquote(uri)).read_bytes()
+    return _read_bounded(path, path.parent / unquote(uri), f"file {uri[:80]!r}")
 
 
 def _load_scene(path: Path):
@@ -471,11 +579,16 @@ def _scene_parts(path: Path, scene, document: dict) -> list[Part]:
 
     parts: list[Part] = []
     images: dict[int, np.ndarray | None] = {}  # one array per image, shared by its users
+    vertices = 0
     for node in scene.graph.nodes_geometry:
         matrix, geom_name = scene.graph[node]
         mesh = scene.geometry.get(geom_name)
         if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
             continue  # points and lines have no surface to show or collide with
+        vertices += len(mesh.vertices)  # every instance of a mesh is a copy of its vertices
+        if vertices > MAX_VERTICES:
+            raise AssetImportError(f"{path}: more than {MAX_VERTICES} vertices over its node "
+                                   "instances, more than an asset may have (MAX_VERTICES)")
         part = _mesh_part(path, mesh, geom_name, images)
         matrix = np.asarray(matrix, dtype=np.float64)
         if not np.all(np.isfinite(matrix)):
