@@ -16,6 +16,8 @@ Layers, from the bottom (``docs/architecture.md`` has the map and the reasons):
   ``Oracle`` alone.
 * :mod:`legent_gym.wrappers`: expert labels, SB3 adapters, interleaved history.
 * :mod:`legent_gym.data`: ``legent-gym collect`` (Minari, LEGENT's format, video).
+* :mod:`legent_gym.play`: ``legent-gym play``, a person playing the user or the agent in
+  the browser (WebSocket server, sessions, recording).
 
 Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command),
 :mod:`legent_gym.gl_backend` (picks EGL before MuJoCo is imported),
