@@ -165,3 +165,55 @@ def test_episodes_per_house_must_be_a_positive_integer(bad):
 
 def test_check_env_with_kept_houses():
     check_env(make(episodes_per_house=8).unwrapped, skip_render_check=True)
+
+
+def _unseeded_run(actions, *, between=None, **kwargs):
+    """Observations and rewards of a seeded reset followed by unseeded resets (autoreset's)."""
+    env = make("Legent/ComeHere-OneRoom-v0", **kwargs)
+    try:
+        obs, info = env.reset(seed=5)
+        frames, houses = [obs["rgb"]], [info["house_seed"]]
+        for action in actions:
+            obs, reward, terminated, truncated, info = env.step(action)
+            frames.append(obs["rgb"])
+            if terminated or truncated:
+                if between is not None:
+                    between(env)
+                obs, info = env.reset()
+                frames.append(obs["rgb"])
+                houses.append(info["house_seed"])
+        return frames, houses, env.unwrapped.episode.houses_taken_ahead
+    finally:
+        env.close()
+
+
+@pytest.mark.parametrize("episodes_per_house", [1, 2])
+def test_a_house_made_ahead_gives_the_same_episodes(episodes_per_house):
+    actions = ["rotate_right(90)", "move_forward(1)", "rotate_down(20)"] * 30
+    inline, houses, taken = _unseeded_run(actions, prepare_ahead=False, episodes_per_house=episodes_per_house)
+    ahead, houses_ahead, taken_ahead = _unseeded_run(actions, prepare_ahead=True, episodes_per_house=episodes_per_house)
+    assert taken == 0 and taken_ahead >= 1
+    assert houses == houses_ahead and len(set(houses)) >= 3
+    assert len(inline) == len(ahead) and all(np.array_equal(a, b) for a, b in zip(inline, ahead))
+
+
+def test_a_house_made_ahead_that_is_not_the_one_drawn_is_not_used():
+    # Drawing from the env's generator between episodes changes the next house: the house
+    # made ahead is not that one, and the episode is the one a run without it gives.
+    actions = ["rotate_right(90)", "move_forward(1)"] * 40
+    moved = _unseeded_run(actions, between=lambda env: env.unwrapped.np_random.random(), prepare_ahead=True)
+    inline = _unseeded_run(actions, between=lambda env: env.unwrapped.np_random.random(), prepare_ahead=False)
+    assert moved[2] == 0 and moved[1] == inline[1]
+    assert all(np.array_equal(a, b) for a, b in zip(moved[0], inline[0]))
+
+
+def test_close_waits_for_a_house_made_ahead_and_pickling_drops_it():
+    import pickle
+
+    env = make("Legent/ComeHere-OneRoom-v0", prepare_ahead=True)
+    env.reset(seed=1)
+    episode = env.unwrapped.episode
+    copy = pickle.loads(pickle.dumps(episode))
+    assert copy.prepare_ahead and copy.ctx is None
+    env.close()
+    assert all(t.name != "legent-house-ahead" for t in __import__("threading").enumerate())

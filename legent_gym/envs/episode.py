@@ -36,6 +36,16 @@ has them, doors and drawers as built, nothing held, nothing said. A house is reu
   :data:`HOUSE_CACHE_SIZE` such houses are kept (with ``episodes_per_house`` 1, a house of a
   new random seed is not).
 
+**The next house can be made ahead.** With ``prepare_ahead``, once an episode has begun in
+the last episode of its house, the house the next :meth:`Episode.begin` will draw is
+worked out from a copy of the episode's generator (nothing moves it between episodes) and
+generated and built in a background thread at the lowest CPU priority, so that it uses
+time the process would spend waiting: a vector env's worker waits for the slowest worker
+at every step (Gymnasium's and stable-baselines3's vector envs step in lock-step), and a
+reset there costs ten to a hundred steps. The next ``begin`` takes that house if it is the
+one drawn (the same key: the same house, so episodes are the same with or without it) and
+builds inline otherwise. One build runs at a time.
+
 A house from a ``houses`` folder is written without a task in mind, so its every episode
 draws spawns under the task's conditions. A seeded episode (:meth:`Episode.begin` with
 ``seed``) depends on its seed alone: seeds ``s`` with one ``s // K`` share a house.
@@ -43,6 +53,10 @@ draws spawns under the task's conditions. A seeded episode (:meth:`Episode.begin
 
 from __future__ import annotations
 
+import contextlib
+import copy
+import os
+import threading
 from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -87,6 +101,9 @@ SPAWN_RETRIES = 3
 #: Mixed into the seed of the generator that draws a block of seeded episodes' house, so
 #: that it is not the stream of any episode's own seed.
 HOUSE_STREAM = 0x4E05E
+#: The nice value of the thread that makes the next house ahead: it runs when the process
+#: would wait, not in place of its steps.
+AHEAD_NICE = 19
 #: The body method behind each interaction primitive (each takes an optional target).
 BODY_METHOD = {Interact: "interact", Grab: "grab", Put: "put", Open: "open", Close: "close"}
 
@@ -141,6 +158,11 @@ class HouseSource:
         """Every episode is in the same house: a house with no goal is an error."""
         return self.scene is not None or (self.files is None and self.house_seed is not None and not self.house_pool)
 
+    def peek(self, rng: np.random.Generator, task: Task) -> HouseDraw:
+        """The house that ``draw(rng, task)`` would give now, moving neither ``rng`` nor
+        this source."""
+        return copy.copy(self).draw(copy.deepcopy(rng), task)
+
     def draw(self, rng: np.random.Generator, task: Task) -> HouseDraw:
         """The next house (its scene is made only if it is not kept already)."""
         if self.scene is not None:
@@ -180,6 +202,42 @@ class House:
     episodes: int = 0
 
 
+class HouseAhead:
+    """One house made in a background thread (see the module docstring): :meth:`take`
+    waits for it and gives it, or raises what making it raised."""
+
+    def __init__(self, draw: HouseDraw, make: Callable[[HouseDraw], House]):
+        self.draw = draw
+        self._make = make
+        self._house: House | None = None
+        self._error: BaseException | None = None
+        self._thread = threading.Thread(target=self._run, name="legent-house-ahead")
+        self._thread.start()
+
+    def _run(self) -> None:
+        with contextlib.suppress(AttributeError, OSError):
+            # Linux gives each thread its own nice value (best effort elsewhere).
+            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), AHEAD_NICE)
+        try:
+            self._house = self._make(self.draw)
+        except BaseException as err:  # noqa: BLE001 - raised again in the thread that takes it
+            self._error = err
+
+    @property
+    def done(self) -> bool:
+        return not self._thread.is_alive()
+
+    def wait(self) -> None:
+        self._thread.join()
+
+    def take(self) -> House:
+        self.wait()
+        if self._error is not None:
+            raise self._error
+        assert self._house is not None
+        return self._house
+
+
 @dataclass(frozen=True)
 class Observing:
     """What :meth:`Episode.views` renders: image size and the extra images."""
@@ -200,10 +258,12 @@ class Episode:
         observing: image size and extra images of :meth:`views`.
         reach: the agent's interaction distance (metres).
         limits: the action limits primitives are clipped to.
+        episodes_per_house: consecutive episodes in one built house.
+        prepare_ahead: make the next house in a background thread (module docstring).
     """
 
     def __init__(self, task: Task, houses: HouseSource, build_options: BuildOptions, observing: Observing, *,
-                 reach: float, limits: ActionLimits, episodes_per_house: int = 1):
+                 reach: float, limits: ActionLimits, episodes_per_house: int = 1, prepare_ahead: bool = False):
         if isinstance(episodes_per_house, bool) or not isinstance(episodes_per_house, int | np.integer) \
                 or episodes_per_house < 1:
             raise ValueError(f"episodes_per_house must be a positive integer, got {episodes_per_house!r}")
@@ -222,6 +282,12 @@ class Episode:
         self._kept: OrderedDict[tuple, House] = OrderedDict()
         self._renderer: Renderer | None = None
         self._renderer_world: World | None = None
+        self.prepare_ahead = bool(prepare_ahead)
+        self._ahead: HouseAhead | None = None
+        #: Houses made ahead that a begin() took (the rest were not the house drawn).
+        self.houses_taken_ahead = 0
+        # Houses are made one at a time (the asset caches are shared by all builds).
+        self._build_lock = threading.Lock()
 
     @property
     def house_seed(self) -> int | None:
@@ -293,6 +359,8 @@ class Episode:
                 self.goal = self.task.sample(ctx, rng)
                 if self.goal is not None:
                     house.episodes += 1
+                    if self.prepare_ahead and seed is None and scene is None:
+                        self._make_next_ahead(rng)
                     return attempt + 1
             if not drawn_spawns and (scene is not None or self.houses.house_fixed):
                 raise ValueError(f"task {self.task.name} has no valid goal in house {house.scene.name!r}")
@@ -306,20 +374,45 @@ class Episode:
             self._kept.move_to_end(draw.key)
             return house
         # With several episodes per house, seeded resets of one block draw the same house again.
-        return self._build(draw, keep=draw.repeats or self.episodes_per_house > 1)
+        keep = draw.repeats or self.episodes_per_house > 1
+        ahead, self._ahead = self._ahead, None
+        if ahead is not None and ahead.draw.key == draw.key:
+            house = ahead.take()
+            self.houses_taken_ahead += 1
+            if keep:
+                self._keep(house)
+            return house
+        return self._build(draw, keep=keep)
+
+    def _make_next_ahead(self, rng: np.random.Generator) -> None:
+        """Start making the house the next unseeded :meth:`begin` draws, if it will draw one
+        that is not kept and no other house is being made."""
+        house = self.house
+        if house is None or house.episodes < self.episodes_per_house or self._ahead is not None:
+            return
+        draw = self.houses.peek(rng, self.task)
+        if draw.key not in self._kept:
+            self._ahead = HouseAhead(draw, self._make_house)
+
+    def _make_house(self, draw: HouseDraw) -> House:
+        with self._build_lock:
+            scene, nav = draw.load()
+            world = build_world(scene, self.build_options)
+            if nav is None or nav.agent_radius != self.build_options.agent.radius:
+                nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
+            seed = scene.seed if draw.spawns_drawn else draw.seed
+            return House(draw, scene, world, nav, capture(world), seed)
 
     def _build(self, draw: HouseDraw, keep: bool) -> House:
-        scene, nav = draw.load()
-        world = build_world(scene, self.build_options)
-        if nav is None or nav.agent_radius != self.build_options.agent.radius:
-            nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
-        seed = scene.seed if draw.spawns_drawn else draw.seed
-        house = House(draw, scene, world, nav, capture(world), seed)
+        house = self._make_house(draw)
         if keep:
-            self._kept[draw.key] = house
-            if len(self._kept) > HOUSE_CACHE_SIZE:
-                self._kept.popitem(last=False)
+            self._keep(house)
         return house
+
+    def _keep(self, house: House) -> None:
+        self._kept[house.draw.key] = house
+        if len(self._kept) > HOUSE_CACHE_SIZE:
+            self._kept.popitem(last=False)
 
     def _spawns(self, house: House, rng: np.random.Generator):
         """(agent, user) spawn pairs to try: the scene's for a house's first episode (unless
@@ -343,7 +436,7 @@ class Episode:
         """Restore ``house`` as built and put the bodies at these spawns."""
         world = house.world
         if self._renderer is not None and self._renderer_world is not world:
-            self.close()
+            self._close_renderer()
         restore(world, house.built)
         scene = house.scene
         if agent != scene.agent or user != scene.user:
@@ -359,8 +452,9 @@ class Episode:
         """Build ``scene`` (or take its built ``world`` and ``nav``) and put the agent and the
         user at the scene's spawns (no goal yet)."""
         if world is None:
-            self.close()
-            world = build_world(scene, self.build_options)
+            self._close_renderer()
+            with self._build_lock:
+                world = build_world(scene, self.build_options)
         if nav is None:
             nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
         agent = Body(world, "agent", reach=self.reach, other="user" if scene.user else None, spawn=scene.agent)
@@ -443,7 +537,14 @@ class Episode:
         return out
 
     def close(self) -> None:
-        """Free the renderer (a new one is made for the next frame)."""
+        """Free the renderer (a new one is made for the next frame) and wait for a house
+        being made ahead (it is dropped)."""
+        self._close_renderer()
+        ahead, self._ahead = self._ahead, None
+        if ahead is not None:
+            ahead.wait()
+
+    def _close_renderer(self) -> None:
         if self._renderer is not None:
             self._renderer.close()
         self._renderer = self._renderer_world = None
@@ -451,5 +552,10 @@ class Episode:
     # Pickling: the house is set up again at the next begin().
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
-        state.update(ctx=None, goal=None, house=None, _kept=OrderedDict(), _renderer=None, _renderer_world=None)
+        state.update(ctx=None, goal=None, house=None, _kept=OrderedDict(), _renderer=None, _renderer_world=None,
+                     _ahead=None, _build_lock=None)
         return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._build_lock = threading.Lock()

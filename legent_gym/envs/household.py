@@ -121,6 +121,10 @@ class HouseholdEnv(gym.Env):
       restored as built (see :mod:`legent_gym.envs.episode`).
     * ``pin_worker``: in a vector env's worker process, pin it to one core and render in one
       thread (default True; see :mod:`legent_gym.envs.vector`).
+    * ``prepare_ahead``: make the next house in a background thread at the lowest CPU
+      priority, in time the process would spend waiting (same episodes; see
+      :mod:`legent_gym.envs.episode`). Default None: on in a vector env's pinned worker
+      process, where the lock-step of the vector env leaves such time, off elsewhere.
     * ``depth``, ``segmentation``: add these images to the observation.
     * ``strict``: raise on an invalid action instead of a no-op step.
     * ``reach``: interaction distance in metres (1.5).
@@ -149,7 +153,7 @@ class HouseholdEnv(gym.Env):
                  agent_radius: float = 0.25, agent_height: float = 1.6, camera_height: float = 1.5,
                  distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
-                 episodes_per_house: int = 1, pin_worker: bool = True):
+                 episodes_per_house: int = 1, pin_worker: bool = True, prepare_ahead: bool | None = None):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -175,7 +179,8 @@ class HouseholdEnv(gym.Env):
         #: The episode engine: house, bodies, goal, views (see :mod:`legent_gym.envs.episode`).
         self.episode = Episode(make_task(task, **(task_options or {})), source, build_options,
                                Observing(self.width, self.height, depth, segmentation), reach=reach,
-                               limits=ActionLimits(), episodes_per_house=episodes_per_house)
+                               limits=ActionLimits(), episodes_per_house=episodes_per_house,
+                               prepare_ahead=self.worker_core is not None if prepare_ahead is None else prepare_ahead)
 
         self.action_space = text_action_space() if action_type == "text" else continuous_action_space(
             self.episode.limits)
