@@ -14,22 +14,32 @@ Success is the environment's own rule (``info["success"]`` when the episode ends
 its step cap (25 actions, the paper's). From the shell::
 
     python baselines/evaluate.py --policy random --env Legent/ComeHere-OneRoom-v0 --episodes 100
+
+The command runs the episodes in seeded chunks (:func:`baselines.vla.evaluate.evaluate_many`:
+the random policy is seeded per chunk of 10) on ``--workers`` worker processes or, with
+``--backend ray`` (``--ray-address auto|HOST:PORT``; default: a Ray started on this
+machine), as Ray tasks; the results do not depend on either (see ``docs/scale.md``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import sys
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass
+from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
-import gymnasium as gym
-import numpy as np
+if __package__ in (None, ""):  # run as a script: make `baselines` importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import legent_gym  # noqa: F401  (registers the environments)
-from legent_gym.agent.actions import ActionLimits
-from legent_gym.wrappers.sb3 import flat_action_text
+import gymnasium as gym  # noqa: E402
+import numpy as np  # noqa: E402
+
+import legent_gym  # noqa: F401, E402  (registers the environments)
+from legent_gym.agent.actions import ActionLimits  # noqa: E402
+from legent_gym.wrappers.sb3 import flat_action_text  # noqa: E402
 
 
 @runtime_checkable
@@ -153,9 +163,24 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--width", type=int, default=None)
     parser.add_argument("--height", type=int, default=None)
     parser.add_argument("--json", action="store_true", help="print every episode as JSON")
+    parser.add_argument("--workers", type=int, default=1, help="worker processes (with --backend ray: Ray tasks at once)")
+    parser.add_argument("--backend", choices=["process", "ray"], default="process",
+                        help="worker processes on this machine or Ray tasks (the scale extra)")
+    parser.add_argument("--ray-address", help="with --backend ray: 'auto' or HOST:PORT (default: start a local Ray)")
     args = parser.parse_args(argv)
     env_kwargs = {k: v for k, v in (("width", args.width), ("height", args.height)) if v is not None}
-    results = run_episodes(RandomPolicy(), args.env, args.episodes, args.seed, env_kwargs)
+    from baselines.vla.evaluate import evaluate_many  # it builds on this module
+    from legent_gym.scale import Backend, BackendUnavailable
+
+    try:
+        backend = Backend(args.backend, args.ray_address)
+        backend.check()
+        _check_counts(args.episodes, args.seed)
+        (results,) = evaluate_many([(args.policy, args.env)], args.episodes, args.seed, env_kwargs, args.workers,
+                                   backend)
+    except (ValueError, BackendUnavailable) as err:
+        print(f"evaluate: error: {err}", file=sys.stderr)
+        return 2
     if args.json:
         for r in results:
             print(json.dumps(asdict(r)))

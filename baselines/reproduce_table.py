@@ -73,6 +73,7 @@ from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  
 from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
+from legent_gym.scale import Backend  # noqa: E402
 from legent_gym.tasks.household import PAPER_WHERE_IS  # noqa: E402
 from legent_gym.workers import map_ordered  # noqa: E402
 
@@ -85,6 +86,8 @@ SEP_MODEL_FOR = {"ComeHere-OneRoom": "ComeHere-OneRoom", "ComeHere-TwoRoom": "Co
 DATA_SEED, DATA_SEED_STRIDE = 10_000_000, 1_000_000
 #: DAgger rollout seeds: rollout k on task i resets with DAGGER_SEED + i * DATA_SEED_STRIDE + k.
 DAGGER_SEED = 20_000_000
+#: Worker processes on this machine (``--backend ray``: Ray tasks, see ``docs/scale.md``).
+PROCESS = Backend()
 COLUMNS = ("Come Here, one room", "Come Here, two rooms", "Where Is, one room", "Where Is, two rooms*")
 
 #: The paper's Table 3 (success rates on 100 episodes per task).
@@ -141,13 +144,16 @@ def log(message: str) -> None:
 
 # -- 1. data ---------------------------------------------------------------------------------
 def collect_command(task: str, index: int, episodes: int, out: Path, scale: Scale, workers: int,
-                    perturb: float = 0.0, scan: bool = False, paper_where_is: bool = False) -> list[str]:
+                    perturb: float = 0.0, scan: bool = False, paper_where_is: bool = False,
+                    backend: Backend = PROCESS) -> list[str]:
     command = [sys.executable, "-m", "legent_gym.cli", "collect", f"Legent/{task}-v0", "--episodes", str(episodes),
                "--out", str(out), "--format", "legent", "--workers", str(workers),
                "--seed", str(DATA_SEED + index * DATA_SEED_STRIDE), "--width", str(scale.image_size),
                "--height", str(scale.image_size), "--quiet"]
     if perturb:
         command += ["--perturb", repr(perturb)]
+    if backend.kind != "process":
+        command += ["--backend", backend.kind] + (["--ray-address", backend.address] if backend.address else [])
     if scans(task, scan):
         command += ["--find-strategy", "scan"]
     env_kwargs = task_env_kwargs(task, paper_where_is)
@@ -188,11 +194,12 @@ def data_folder(root: Path, task: str, perturb: float = 0.0, scan: bool = False,
 
 
 def collect_data(root: Path, scale: Scale, workers: int, perturb: float = 0.0, scan: bool = False,
-                 paper_where_is: bool = False) -> dict[str, Path]:
+                 paper_where_is: bool = False, backend: Backend = PROCESS) -> dict[str, Path]:
     folders = {}
     for index, task in enumerate(TRAIN_TASKS):
         folder = data_folder(root, task, perturb, scan, paper_where_is)
-        command = collect_command(task, index, scale.large, folder, scale, workers, perturb, scan, paper_where_is)
+        command = collect_command(task, index, scale.large, folder, scale, workers, perturb, scan, paper_where_is,
+                                  backend)
         log(" ".join(["legent-gym", *command[3:]]))
         done = subprocess.run(command, capture_output=True, text=True)
         if done.returncode != 0:
@@ -295,7 +302,7 @@ def _train_one(config: TrainConfig) -> dict:
     return train(config, resume=resume, show_progress=False, epoch_lines=f"  {Path(config.out).name}")
 
 
-def train_models(runs: dict[str, TrainConfig], workers: int) -> dict[str, dict]:
+def train_models(runs: dict[str, TrainConfig], workers: int, backend: Backend = PROCESS) -> dict[str, dict]:
     """Train what is not trained yet, ``workers`` models at a time (one torch thread each,
     so the weights do not depend on ``workers``)."""
     todo = {name: config for name, config in runs.items() if not _trained(config)}
@@ -303,7 +310,7 @@ def train_models(runs: dict[str, TrainConfig], workers: int) -> dict[str, dict]:
         if name not in todo:
             log(f"model {name}: already trained")
     metrics = {}
-    if workers == 1 or len(todo) <= 1:
+    if (workers == 1 or len(todo) <= 1) and backend.kind == "process":
         for name, config in todo.items():
             log(f"training {name}")
             metrics[name] = _train_one(config)
@@ -313,7 +320,7 @@ def train_models(runs: dict[str, TrainConfig], workers: int) -> dict[str, dict]:
         order = sorted(todo, key=lambda n: -_size(todo[n]))
         # All handed out at once: a free worker takes the next run whatever the first is doing.
         trained = map_ordered(_train_one, [(todo[name],) for name in order], workers=workers,
-                              ahead=len(order))
+                              ahead=len(order), backend=backend)
         for name, result in zip(order, trained, strict=True):
             metrics[name] = result
             log(f"trained {name}: {json.dumps(metrics[name])}")
@@ -341,7 +348,7 @@ def table_rows(root: Path, scale: Scale, dagger: bool = False) -> list[tuple[str
 
 
 def evaluate_rows(rows, scale: Scale, episodes: int, seed: int, workers: int,
-                  paper_where_is: bool = False) -> dict[str, dict[str, list]]:
+                  paper_where_is: bool = False, backend: Backend = PROCESS) -> dict[str, dict[str, list]]:
     # The same spec on the same task (the Where Is Sep model on two tasks is two jobs) runs
     # once; tasks whose envs take the same arguments are evaluated together.
     groups: dict[str, tuple[dict, list[tuple[str, str]]]] = {}
@@ -351,7 +358,7 @@ def evaluate_rows(rows, scale: Scale, episodes: int, seed: int, workers: int,
     results = {}
     for extra, group in groups.values():
         env_kwargs = {"width": scale.image_size, "height": scale.image_size, **extra}
-        results.update(zip(group, evaluate_many(group, episodes, seed, env_kwargs, workers)))
+        results.update(zip(group, evaluate_many(group, episodes, seed, env_kwargs, workers, backend)))
     return {label: {task: results[(spec, f"Legent/{task}-v0")] for task, spec in specs.items()}
             for label, specs in rows}
 
@@ -456,14 +463,15 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
         perturb: float = 0.0, scan: bool = False, dagger: bool = False,
         channels: tuple[int, ...] | None = None, epochs_large: int | None = None, film: bool = False,
-        paper_where_is: bool = False, shift: int = 0) -> dict:
+        paper_where_is: bool = False, shift: int = 0, backend: Backend = PROCESS) -> dict:
     """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
     look around first; ``dagger``: a DAgger round on the large Sep models (see the module
     docstring); ``channels`` and ``epochs_large`` replace the scale's encoder widths and
     its epochs on the large sets, ``film`` conditions the image encoder on the instruction
     (use a new ``out``: the model folders keep their names); ``paper_where_is``: Where Is
     asks LEGENT's objects on LEGENT's receptacles; ``shift``: training views shifted at
-    random by up to that many pixels."""
+    random by up to that many pixels; ``backend``: where collection, training and
+    evaluation run (worker processes or Ray tasks; the table does not depend on it)."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
@@ -490,12 +498,12 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
 
     log(f"scale {scale_name}: {asdict(scale)}; output {out}")
     t = time.monotonic()
-    folders = collect_data(out, scale, workers, perturb, scan, paper_where_is)
+    folders = collect_data(out, scale, workers, perturb, scan, paper_where_is, backend)
     times["data"] = time.monotonic() - t
 
     t = time.monotonic()
     runs = training_runs(out, folders, scale)
-    metrics = train_models(runs, workers)
+    metrics = train_models(runs, workers, backend)
     times["training"] = time.monotonic() - t
 
     if dagger:
@@ -504,14 +512,14 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
         times["dagger_data"] = time.monotonic() - t
         t = time.monotonic()
         more = dagger_runs(out, folders, rollouts, scale)
-        metrics.update(train_models(more, workers))
+        metrics.update(train_models(more, workers, backend))
         runs.update(more)
         times["dagger_training"] = time.monotonic() - t
 
     t = time.monotonic()
     rows = table_rows(out, scale, dagger)
     log(f"evaluating {len(rows)} rows x {len(EVAL_TASKS)} tasks x {episodes} episodes")
-    evaluated = evaluate_rows(rows, scale, episodes, eval_seed, workers, paper_where_is)
+    evaluated = evaluate_rows(rows, scale, episodes, eval_seed, workers, paper_where_is, backend)
     times["evaluation"] = time.monotonic() - t
 
     eval_houses = {r.house_seed for per_task in evaluated.values() for rs in per_task.values() for r in rs}
@@ -553,6 +561,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--shift", type=int, default=0,
                    help="shift every training view by up to N pixels at random (0: none)")
     p.add_argument("--redraw", action="store_true", help="only rewrite the tables from OUT/results.json")
+    p.add_argument("--backend", choices=["process", "ray"], default="process",
+                   help="collection, training and evaluation in worker processes or as Ray tasks (the scale extra)")
+    p.add_argument("--ray-address", help="with --backend ray: 'auto' or HOST:PORT (default: start a local Ray)")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
     try:
@@ -560,8 +571,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             redraw(out)
             return 0
         channels = parse_channels(args.channels) if args.channels else None
+        backend = Backend(args.backend, args.ray_address)
+        backend.check()
         run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger,
-            channels, args.epochs_large, args.film, args.paper_where_is, args.shift)
+            channels, args.epochs_large, args.film, args.paper_where_is, args.shift, backend)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2

@@ -7,6 +7,8 @@
     legent-gym generate --preset TwoRoom --seed 3 --out house.json [--map house.png]
     legent-gym generate --preset TwoRoom --seed 0 --count 100 --out-dir houses/
     legent-gym collect ENV_ID --episodes N --out DIR [--format minari,legent,video] [--workers K] [--seed S]
+        [--backend process|ray] [--ray-address auto|HOST:PORT]
+    legent-gym play ENV_ID [--as user|agent] [--partner expert|random|llm] [--port P] [--size WxH] [--record DIR]
 
 Errors a user can cause (a bad file, a bad argument) print one line on stderr, naming the
 file and the problem, and exit 2; ``--debug`` (before or after the command) shows the
@@ -193,9 +195,15 @@ def cmd_collect(args) -> int:
     config = CollectConfig(args.env_id, args.episodes, args.out, formats=formats, workers=args.workers,
                            seed=args.seed, env_kwargs=env_kwargs, policy=args.policy, window=args.window,
                            dataset_id=args.dataset_id, max_attempts=args.max_attempts, perturb=args.perturb,
-                           find_strategy=args.find_strategy)
+                           find_strategy=args.find_strategy, backend=args.backend, ray_address=args.ray_address)
     print(describe(collect(config, show_progress=not args.quiet)))
     return 0
+
+
+def cmd_play(args) -> int:
+    from legent_gym.play.command import run
+
+    return run(args)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -247,7 +255,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--episodes", type=int, required=True, help="successful episodes wanted in all")
     p.add_argument("--out", required=True, help="output directory (resumed if it holds a collection)")
     p.add_argument("--format", default="minari,legent", help="comma-separated: minari, legent, video")
-    p.add_argument("--workers", type=int, default=1, help="worker processes")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (with --backend ray: Ray tasks at once)")
+    p.add_argument("--backend", choices=["process", "ray"], default="process",
+                   help="worker processes on this machine or Ray tasks (the scale extra); see docs/scale.md")
+    p.add_argument("--ray-address", help="with --backend ray: 'auto' or HOST:PORT of a running Ray cluster "
+                                         "(default: start a Ray on this machine)")
     p.add_argument("--seed", type=int, default=0, help="attempt k resets with seed S + k")
     p.add_argument("--policy", default="expert", help="'expert' or module:function, a callable (obs, info) -> action")
     p.add_argument("--width", type=int)
@@ -266,6 +278,14 @@ def build_parser() -> argparse.ArgumentParser:
                         "to it) or 'scan' (turn right in place until it is in view, then as direct)")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_collect)
+
+    from legent_gym.play.command import add_arguments as add_play_arguments
+
+    p = sub.add_parser("play", parents=[common], help="play ENV_ID in the browser, as the user or the agent",
+                       description="Serve a page where a person plays ENV_ID as the user (a partner policy "
+                                   "drives the agent) or as the agent. See docs/play.md.")
+    add_play_arguments(p)
+    p.set_defaults(func=cmd_play)
     return parser
 
 

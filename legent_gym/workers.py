@@ -37,6 +37,8 @@ from collections.abc import Callable, Generator, Iterable, Iterator, Sized
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
+from legent_gym.scale import Backend, ray_results
+
 __all__ = ["map_ordered", "mp_context"]
 
 #: How often a worker checks that the process that started it is still there (seconds).
@@ -51,7 +53,8 @@ def mp_context() -> multiprocessing.context.BaseContext:
 
 def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int = 1,
                 initializer: Callable[..., Any] | None = None, initargs: tuple = (),
-                progress: bool | str = False, ahead: int = 2, pin: bool = True) -> Iterator[Any]:
+                progress: bool | str = False, ahead: int = 2, pin: bool = True,
+                backend: Backend | str | None = None) -> Iterator[Any]:
     """``fn(*call)`` for each argument tuple ``call`` of ``calls``, yielded in that order.
 
     ``workers == 1`` runs the calls in this process, one after another, and does not run
@@ -70,6 +73,11 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
     its cause. On any exception, on Ctrl-C, or when the
     consumer stops early (the generator is closed), the pending calls are cancelled and the
     workers stopped before the exception goes on.
+
+    ``backend`` (:mod:`legent_gym.scale`): ``"process"`` (the default, as above) or
+    ``"ray"`` / a :class:`~legent_gym.scale.Backend` with a Ray address: the calls run as
+    Ray tasks, ``workers`` at a time, under the same contract (order, ``ahead``, errors);
+    ``workers == 1`` then runs them in one Ray worker too.
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
@@ -77,7 +85,11 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
         raise ValueError(f"ahead must be >= 1, got {ahead}")
     total = len(calls) if isinstance(calls, Sized) else None
     results: Generator[Any, None, None]
-    if workers == 1:
+    where = Backend.of(backend)
+    if where.kind == "ray":
+        results = ray_results(fn, calls, workers=workers, initializer=initializer, initargs=initargs,
+                              ahead=ahead, address=where.address)
+    elif workers == 1:
         results = (fn(*call) for call in calls)
     else:
         results = _in_workers(fn, calls, workers, initializer, initargs, ahead, pin)

@@ -28,6 +28,7 @@ import gymnasium as gym
 import legent_gym  # noqa: F401  (registers the environments)
 from baselines.evaluate import EpisodeResult, ExpertBaseline, RandomPolicy, run_episodes
 from legent_gym.cli import UserError, parse_env_kwargs
+from legent_gym.scale import Backend
 from legent_gym.workers import map_ordered
 
 CHUNK = 10
@@ -79,11 +80,13 @@ def check_policy(spec: str) -> str:
 
 
 def evaluate_many(jobs: Sequence[tuple[str, str]], episodes: int, seed: int, env_kwargs: dict,
-                  workers: int = 1) -> list[list[EpisodeResult]]:
+                  workers: int = 1, backend: Backend | str | None = None) -> list[list[EpisodeResult]]:
     """Episode results for each ``(policy spec, env id)`` job, in the order given.
 
     All jobs use the seeds ``seed .. seed + episodes - 1``, so every policy meets the same
-    houses, goals and instructions."""
+    houses, goals and instructions. ``backend`` (``"process"``, ``"ray"`` or a
+    :class:`legent_gym.scale.Backend`) says where the chunks run; the results do not
+    depend on it."""
     if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
         raise ValueError(f"episodes must be a positive integer, got {episodes!r}")
     if workers < 1:
@@ -95,7 +98,8 @@ def evaluate_many(jobs: Sequence[tuple[str, str]], episodes: int, seed: int, env
     calls = [(j, (spec, env_id, s, n, env_kwargs)) for j, (spec, env_id) in enumerate(jobs)
              for s, n in _chunks(episodes, seed)]
     results: list[list[EpisodeResult]] = [[] for _ in jobs]
-    chunks = map_ordered(run_chunk, [args for _, args in calls], workers=workers, initializer=_init_worker)
+    chunks = map_ordered(run_chunk, [args for _, args in calls], workers=workers, initializer=_init_worker,
+                         backend=backend)
     for chunk, (j, _) in zip(chunks, calls, strict=True):
         results[j] += chunk
     return results

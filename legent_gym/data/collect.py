@@ -15,6 +15,11 @@ Layout of the output directory::
 Each episode is committed in order: its trajectory folder, its video, its Minari episode,
 then ``progress.json``. Whatever a crash interrupts is past the count in ``progress.json``
 and is dropped and redone by the next run, which gives the same episode again (same seed).
+
+The attempts are computed by worker processes on this machine or by Ray tasks on a
+cluster (``backend``; see :mod:`legent_gym.scale` and ``docs/scale.md``); a task returns
+its attempt whole to this process, which commits as above. So both backends write the
+same output, and a run killed on one resumes on either.
 """
 
 from __future__ import annotations
@@ -34,6 +39,7 @@ from legent_gym.atomic import atomic_write_bytes, atomic_write_text
 from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
 from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
 from legent_gym.experts.planners import FIND_STRATEGIES
+from legent_gym.scale import Backend, BackendUnavailable
 from legent_gym.workers import map_ordered
 
 if TYPE_CHECKING:
@@ -73,6 +79,11 @@ class CollectConfig:
     #: How the expert's ``find(a)`` looks for an object out of view: ``"direct"`` (LEGENT's)
     #: or ``"scan"`` (look around in place first; see ``legent_gym.experts.planners``).
     find_strategy: str = "direct"
+    #: Where the attempts are computed: ``"process"`` (worker processes here) or ``"ray"``
+    #: (Ray tasks; ``ray_address`` as in :mod:`legent_gym.scale`). This process commits
+    #: them in order either way, so the output does not depend on it.
+    backend: str = "process"
+    ray_address: str | None = None
 
     def resolved_dataset_id(self) -> str:
         if self.dataset_id:
@@ -193,7 +204,7 @@ def _attempt_results(config: CollectConfig, policy, start: int,
     """Results of attempts ``start, start + 1, ...`` in order (computed ahead in parallel)."""
     worker_args = (config.env_id, config.env_kwargs, policy, tuple(config.formats), config.perturb,
                    config.find_strategy)
-    if config.workers == 1:
+    if config.workers == 1 and config.backend == "process":
         worker = _Worker(*worker_args)
         try:
             for attempt in range(start, limit):
@@ -203,7 +214,7 @@ def _attempt_results(config: CollectConfig, policy, start: int,
         return
     calls = ((attempt, config.seed + attempt) for attempt in range(start, limit))
     yield from map_ordered(_run_attempt, calls, workers=config.workers, initializer=_init_worker,
-                           initargs=worker_args)
+                           initargs=worker_args, backend=Backend(config.backend, config.ray_address))
 
 
 # -- the run ---------------------------------------------------------------------------------
@@ -219,6 +230,10 @@ def _check(config: CollectConfig, policy: Callable | None) -> None:
         raise CollectError(f"--workers must be >= 1, got {config.workers}")
     if config.window < 1:
         raise CollectError(f"--window must be >= 1, got {config.window}")
+    try:
+        Backend(config.backend, config.ray_address).check()
+    except (ValueError, BackendUnavailable) as err:
+        raise CollectError(str(err)) from None
     if not 0.0 <= config.perturb < 1.0:
         raise CollectError(f"--perturb must be in [0, 1), got {config.perturb}")
     if config.perturb and config.env_kwargs.get("action_type", "text") != "text":

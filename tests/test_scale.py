@@ -1,0 +1,213 @@
+"""The Ray backend (legent_gym/scale.py): collection and evaluation as Ray tasks on a local
+cluster (loopback only, 2 CPUs, no dashboard) give what the process backend gives, survive
+a killed Ray worker and a killed driver, and a missing Ray is one line naming the extra."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import numpy as np
+import pytest
+
+from legent_gym.cli import main
+from legent_gym.data import CollectConfig, collect
+from legent_gym.data.legent_format import load_trajectories
+from legent_gym.data.minari_store import load_minari_dataset
+from legent_gym.scale import Backend
+
+from .conftest import REPO
+from .test_data_collect import DATASET_ID, ENV_ID, _check_whole, _committed
+
+N = 20
+SMALL = {"width": 32, "height": 32}
+SIZE = ["--width", "32", "--height", "32"]
+FORMATS = ("minari", "legent")
+HAS_RAY = importlib.util.find_spec("ray") is not None
+needs_ray = pytest.mark.skipif(not HAS_RAY, reason='Ray is not installed (the "scale" extra: pip install -e ".[scale]")')
+
+
+@pytest.fixture(scope="module")
+def ray_address():
+    """A Ray cluster on this machine for the module's tests: loopback only, 2 CPUs, no
+    dashboard. Its address lets drivers in other processes join it."""
+    # Read when ray is imported: the node binds and advertises 127.0.0.1 only.
+    os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
+    import ray
+
+    if ray.is_initialized():  # not ours: leave it
+        pytest.skip("this process is connected to another Ray cluster")
+    context = ray.init(num_cpus=2, include_dashboard=False, _node_ip_address="127.0.0.1")
+    address = context.address_info["address"]
+    assert address.startswith("127.0.0.1:")
+    yield address
+    ray.shutdown()
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """N episodes from the process backend with 2 workers."""
+    out = tmp_path_factory.mktemp("process")
+    collect(CollectConfig(ENV_ID, N, str(out), formats=FORMATS, workers=2, env_kwargs=SMALL), show_progress=False)
+    return out
+
+
+def _same_episodes(out, reference) -> None:
+    """Same trajectories, same actions, equal observations, same order."""
+    assert load_trajectories(out / "legent") == load_trajectories(reference / "legent")
+    assert (out / "legent" / "interleaved.jsonl").read_bytes() == (reference / "legent" / "interleaved.jsonl").read_bytes()
+    ours = list(load_minari_dataset(out / "minari", DATASET_ID).iterate_episodes())
+    theirs = list(load_minari_dataset(reference / "minari", DATASET_ID).iterate_episodes())
+    assert len(ours) == len(theirs) == N
+    for a, b in zip(ours, theirs):
+        assert list(a.actions) == list(b.actions)
+        assert np.array_equal(a.observations["rgb"], b.observations["rgb"])
+        assert list(a.observations["instruction"]) == list(b.observations["instruction"])
+        assert np.array_equal(a.rewards, b.rewards)
+
+
+def _driver(out, address: str) -> subprocess.Popen:
+    """``legent-gym collect --backend ray`` in a process of its own, joining the cluster."""
+    command = [sys.executable, "-m", "legent_gym.cli", "collect", ENV_ID, "--episodes", str(N), "--out", str(out),
+               "--format", ",".join(FORMATS), "--workers", "2", "--backend", "ray", "--ray-address", address,
+               "--quiet", *SIZE]
+    return subprocess.Popen(command, cwd=REPO, start_new_session=True, stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT)
+
+
+def _wait_for_episodes(out, count: int, proc: subprocess.Popen | None = None, timeout: float = 120) -> None:
+    deadline = time.monotonic() + timeout
+    while _committed(out) < count and time.monotonic() < deadline:
+        if proc is not None and proc.poll() is not None:
+            break
+        time.sleep(0.02)
+    assert _committed(out) >= count, proc.stdout.read().decode()[-3000:] if proc is not None else "too slow"
+
+
+def _ray_tasks_running() -> list:
+    """The Ray worker processes of this test's cluster that are running a call now."""
+    import psutil
+
+    running = []
+    for child in psutil.Process().children(recursive=True):
+        try:
+            if child.cmdline()[:1] == ["ray::_run_call"]:
+                running.append(child)
+        except psutil.Error:
+            pass
+    return running
+
+
+@needs_ray
+def test_ray_collects_the_episodes_of_the_process_backend(ray_address, reference, tmp_path):
+    out = tmp_path / "ray"
+    summary = collect(CollectConfig(ENV_ID, N, str(out), formats=FORMATS, workers=2, env_kwargs=SMALL,
+                                    backend="ray"), show_progress=False)
+    assert summary.episodes == N
+    _same_episodes(out, reference)
+
+
+@needs_ray
+def test_a_ray_worker_killed_mid_collection_is_retried(ray_address, reference, tmp_path):
+    out, errors = tmp_path / "ray", []
+
+    def run() -> None:
+        try:
+            collect(CollectConfig(ENV_ID, N, str(out), formats=FORMATS, workers=2, env_kwargs=SMALL, backend="ray"),
+                    show_progress=False)
+        except BaseException as err:  # noqa: BLE001  (reported below)
+            errors.append(err)
+
+    driver = threading.Thread(target=run)
+    driver.start()
+    try:
+        _wait_for_episodes(out, 3)
+        killed = None
+        deadline = time.monotonic() + 60
+        while killed is None and time.monotonic() < deadline and driver.is_alive():
+            running = _ray_tasks_running()
+            if running:
+                killed = running[0]
+                os.kill(killed.pid, signal.SIGKILL)  # a worker process of the cluster this test started
+            time.sleep(0.01)
+        assert killed is not None, "no Ray worker was running a call"
+        assert _committed(out) < N, "the worker was killed after the collection ended"
+    finally:
+        driver.join(timeout=300)
+    assert not driver.is_alive() and not errors, errors
+    killed.wait(timeout=10)  # it is gone, and the collection went on without it
+    assert _check_whole(out, expected=N) == N
+    _same_episodes(out, reference)
+
+
+@needs_ray
+def test_the_driver_killed_then_rerun_resumes_from_its_episodes(ray_address, reference, tmp_path):
+    out = tmp_path / "ray"
+    proc = _driver(out, ray_address)
+    try:
+        _wait_for_episodes(out, 3, proc)
+        assert proc.poll() is None, proc.stdout.read().decode()[-3000:]
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait()
+    finally:
+        if proc.poll() is None:
+            os.kill(proc.pid, signal.SIGKILL)
+        proc.stdout.close()
+    survived = _check_whole(out)
+    assert 3 <= survived < N
+    before = json.loads((out / "progress.json").read_text())["progress"]
+
+    # The rerun (here, joining the same cluster) adds the rest: no episode twice, none missing.
+    assert main(["collect", ENV_ID, "--episodes", str(N), "--out", str(out), "--format", ",".join(FORMATS),
+                 "--workers", "2", "--backend", "ray", "--ray-address", ray_address, "--quiet", *SIZE]) == 0
+    assert _check_whole(out, expected=N) == N
+    after = json.loads((out / "progress.json").read_text())["progress"]
+    assert after["committed"] == N and after["next_attempt"] >= before["next_attempt"]
+    _same_episodes(out, reference)
+
+
+@needs_ray
+def test_evaluation_through_ray_equals_in_process(ray_address, capsys):
+    from baselines.evaluate import main as evaluate_main
+    from baselines.vla.evaluate import evaluate_many, success_rate
+
+    jobs = [("random", ENV_ID)]
+    (here,) = evaluate_many(jobs, N, 0, SMALL, workers=1)  # in this process
+    (on_ray,) = evaluate_many(jobs, N, 0, SMALL, workers=2, backend=Backend("ray", ray_address))
+    assert on_ray == here  # episode by episode: seeds, steps, returns, success
+    assert 0 < success_rate(on_ray) < 1  # a rate that could have come out otherwise
+
+    args = ["--episodes", str(N), "--seed", "0", *SIZE]
+    assert evaluate_main(args) == 0
+    assert evaluate_main([*args, "--workers", "2", "--backend", "ray", "--ray-address", ray_address]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == lines[1] == (f"random on {ENV_ID}: success {success_rate(here):.3f} over {N} "
+                                    "episodes (seed 0)")
+
+
+def test_a_missing_ray_is_one_line_naming_the_extra(tmp_path):
+    hide_ray = ("import sys; sys.modules['ray'] = None; from legent_gym.cli import main; "
+                "sys.exit(main(sys.argv[1:]))")
+    done = subprocess.run([sys.executable, "-c", hide_ray, "collect", ENV_ID, "--episodes", "2", "--out",
+                           str(tmp_path / "out"), "--backend", "ray"], cwd=REPO, capture_output=True, text=True)
+    assert done.returncode == 2
+    assert done.stderr.count("\n") == 1 and "Traceback" not in done.stderr
+    assert 'the "scale" extra' in done.stderr and 'pip install -e ".[scale]"' in done.stderr
+    assert not (tmp_path / "out" / "minari").exists()
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["--ray-address", "auto"], "a Ray address needs the ray backend"),
+    (["--backend", "ray", "--ray-address", "nowhere"], "must be 'auto' or HOST:PORT"),
+])
+def test_bad_backend_arguments_are_refused(tmp_path, capsys, argv, message):
+    assert main(["collect", ENV_ID, "--episodes", "2", "--out", str(tmp_path / "out"), *argv]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
