@@ -150,6 +150,25 @@ def test_houses_from_a_folder(tmp_path):
     assert env.unwrapped.episode.kept_houses <= 3  # each file built once
 
 
+def test_houses_kept_bounds_the_built_houses(tmp_path):
+    env = make("Legent/ComeHere-OneRoom-v0", house_pool=[1, 2, 3, 4], houses_kept=2)
+    worlds = []
+    for _ in range(8):
+        env.reset()
+        worlds.append(env.unwrapped.episode.world)
+        assert env.unwrapped.episode.kept_houses <= 2
+    assert len({id(w) for w in worlds}) > 4  # the pool of 4 is built again, only 2 kept
+    env = make("Legent/ComeHere-OneRoom-v0", house_pool=[1, 2, 3, 4], houses_kept=4)
+    worlds = []
+    for _ in range(8):
+        env.reset()
+        worlds.append(env.unwrapped.episode.world)
+    ids = [id(w) for w in worlds]
+    assert len(set(ids)) == 4 and ids[:4] == ids[4:]  # each house built once
+    with pytest.raises(ValueError, match="houses_kept"):
+        make(houses_kept=0)
+
+
 def test_houses_folder_errors_name_the_folder(tmp_path):
     with pytest.raises(ValueError, match="holds no"):
         make(houses=tmp_path)

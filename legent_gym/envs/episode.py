@@ -33,8 +33,10 @@ has them, doors and drawers as built, nothing held, nothing said. A house is reu
   task's conditions, e.g. ComeHere's 3 m apart, hold) and a new goal;
 * whenever the house source gives a house it gave before (a fixed ``scene`` or
   ``house_seed``, an entry of ``house_pool``, a file of a ``houses`` folder): the last
-  :data:`HOUSE_CACHE_SIZE` such houses are kept (with ``episodes_per_house`` 1, a house of a
-  new random seed is not).
+  ``houses_kept`` such houses are kept (:data:`HOUSE_CACHE_SIZE` by default; with
+  ``episodes_per_house`` 1, a house of a new random seed is not). A kept house costs a few
+  megabytes (about 3 a OneRoom house, 4 a TwoRoom one): a ``houses`` folder of N houses
+  with ``houses_kept`` >= N builds each house once.
 
 **The next house can be made ahead.** With ``prepare_ahead``, once an episode has begun in
 the last episode of its house, the house the next :meth:`Episode.begin` will draw is
@@ -94,7 +96,7 @@ from legent_gym.world.state import WorldState, capture, restore
 
 #: Houses drawn before :meth:`Episode.begin` gives up on finding one with a goal.
 HOUSE_RETRIES = 20
-#: Built houses kept for reuse (a FourRoom house is a few megabytes).
+#: Built houses kept for reuse by default (a house is a few megabytes).
 HOUSE_CACHE_SIZE = 8
 #: New spawns tried in a kept house before a house with no goal for them is left.
 SPAWN_RETRIES = 3
@@ -260,14 +262,19 @@ class Episode:
         limits: the action limits primitives are clipped to.
         episodes_per_house: consecutive episodes in one built house.
         prepare_ahead: make the next house in a background thread (module docstring).
+        houses_kept: the most built houses kept for reuse (module docstring).
     """
 
     def __init__(self, task: Task, houses: HouseSource, build_options: BuildOptions, observing: Observing, *,
-                 reach: float, limits: ActionLimits, episodes_per_house: int = 1, prepare_ahead: bool = False):
+                 reach: float, limits: ActionLimits, episodes_per_house: int = 1, prepare_ahead: bool = False,
+                 houses_kept: int = HOUSE_CACHE_SIZE):
         if isinstance(episodes_per_house, bool) or not isinstance(episodes_per_house, int | np.integer) \
                 or episodes_per_house < 1:
             raise ValueError(f"episodes_per_house must be a positive integer, got {episodes_per_house!r}")
         self.episodes_per_house = int(episodes_per_house)
+        if isinstance(houses_kept, bool) or not isinstance(houses_kept, int | np.integer) or houses_kept < 1:
+            raise ValueError(f"houses_kept must be a positive integer, got {houses_kept!r}")
+        self.houses_kept = int(houses_kept)
         self.task = task
         self.houses = houses
         self.build_options = build_options
@@ -411,7 +418,7 @@ class Episode:
 
     def _keep(self, house: House) -> None:
         self._kept[house.draw.key] = house
-        if len(self._kept) > HOUSE_CACHE_SIZE:
+        if len(self._kept) > self.houses_kept:
             self._kept.popitem(last=False)
 
     def _spawns(self, house: House, rng: np.random.Generator):

@@ -22,7 +22,7 @@ from legent_gym.envs.action_spaces import (
     speech_space,
     text_action_space,
 )
-from legent_gym.envs.episode import Episode, HouseSource, Observing
+from legent_gym.envs.episode import HOUSE_CACHE_SIZE, Episode, HouseSource, Observing
 from legent_gym.envs.vector import settle_worker
 from legent_gym.tasks.base import Evaluation
 from legent_gym.tasks.household import make_task
@@ -119,6 +119,8 @@ class HouseholdEnv(gym.Env):
     * ``episodes_per_house``: consecutive episodes in one built house (default 1: a new
       house every episode); later ones draw new spawns and a new goal, with the house
       restored as built (see :mod:`legent_gym.envs.episode`).
+    * ``houses_kept``: the most built houses kept for reuse (default 8; a few megabytes
+      each): a ``houses`` folder of N houses with ``houses_kept`` >= N builds each once.
     * ``pin_worker``: in a vector env's worker process, pin it to one core and render in one
       thread (default True; see :mod:`legent_gym.envs.vector`).
     * ``prepare_ahead``: make the next house in a background thread at the lowest CPU
@@ -153,7 +155,8 @@ class HouseholdEnv(gym.Env):
                  agent_radius: float = 0.25, agent_height: float = 1.6, camera_height: float = 1.5,
                  distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
-                 episodes_per_house: int = 1, pin_worker: bool = True, prepare_ahead: bool | None = None):
+                 episodes_per_house: int = 1, houses_kept: int = HOUSE_CACHE_SIZE, pin_worker: bool = True,
+                 prepare_ahead: bool | None = None):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -180,6 +183,7 @@ class HouseholdEnv(gym.Env):
         self.episode = Episode(make_task(task, **(task_options or {})), source, build_options,
                                Observing(self.width, self.height, depth, segmentation), reach=reach,
                                limits=ActionLimits(), episodes_per_house=episodes_per_house,
+                               houses_kept=houses_kept,
                                prepare_ahead=self.worker_core is not None if prepare_ahead is None else prepare_ahead)
 
         self.action_space = text_action_space() if action_type == "text" else continuous_action_space(
