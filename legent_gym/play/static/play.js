@@ -146,9 +146,11 @@
     const text = input.value.trim();
     if (text) send({ type: "say", text: text });
     input.value = "";
+    view.focus();  // Enter sends and gives the keys back to the view
   });
-  $("reset-new").addEventListener("click", () => send({ type: "reset", same_house: false }));
-  $("reset-same").addEventListener("click", () => send({ type: "reset", same_house: true }));
-  $("show-instruction").addEventListener("click", () => { $("instruction").hidden = !$("instruction").hidden; });
+  // After a click the keys go back to the view.
+  $("reset-new").addEventListener("click", () => { send({ type: "reset", same_house: false }); view.focus(); });
+  $("reset-same").addEventListener("click", () => { send({ type: "reset", same_house: true }); view.focus(); });
+  $("show-instruction").addEventListener("click", () => { $("instruction").hidden = !$("instruction").hidden; view.focus(); });
   view.focus();
 })();
