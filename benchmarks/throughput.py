@@ -15,7 +15,8 @@ observations, one core. Rows (``--only`` names):
 * ``oneroom-houses``, ``tworoom-houses``: the same with ``houses=DIR``, a folder of
   ``--house-count`` scenes written by ``legent-gym generate --count N --out-dir DIR`` (before
   timing). Where the env does not know the keyword (TypeError) or the CLI has no
-  ``--count``, the row says "n/a (not supported by this version)";
+  ``--count``, the row says "n/a (not supported by this version)". ``*-houses-kept``: the
+  same with ``houses_kept=N`` (every house of the folder kept once built);
 * ``mw-oneroom``, ``mw-fourrooms``: Miniworld's ``MiniWorld-OneRoom-v0`` and
   ``MiniWorld-FourRooms-v0`` with ``obs_width=96, obs_height=96`` and Miniworld's own episode
   caps (180 and 250 steps), random discrete actions, the same loop. ``mw-fourrooms`` is the
@@ -24,8 +25,10 @@ observations, one core. Rows (``--only`` names):
   vectorization_mode="async")`` (forkserver workers, same-step autoreset), steps summed over
   the envs. N=1 runs pinned to one core (the parent and its env process), N=2 unpinned;
   reported as the ratio N=2 / N=1. With N=2 each env process pins itself to a core of its
-  own and draws in its own thread (``legent_gym/envs/vector.py``). ``vec1-eph8``,
-  ``vec2-eph8``: the same with ``episodes_per_house=8``;
+  own and draws in its own thread (``legent_gym/envs/vector.py``) and makes its next house
+  ahead in the time it waits for the other (``prepare_ahead``, on in pinned workers; the
+  pinned N=1 process has one core and does not). ``vec1-eph8``, ``vec2-eph8``: the same
+  with ``episodes_per_house=8``; ``vec2-inline``: N=2 with ``prepare_ahead=False``;
 * ``collect``: ``legent-gym collect Legent/ComeHere-OneRoom-v0 --episodes 100 --out DIR
   --workers 1`` (its Python function, one core, default formats): successful expert
   trajectories per second, the whole call timed (a fresh DIR each round).
@@ -87,6 +90,9 @@ def _configs() -> dict[str, dict]:
                                "kwargs": {"episodes_per_house": 8}}
         rows[f"{low}-houses"] = {"kind": "legent", "label": f"{env_id}, houses=DIR", "env_id": env_id,
                                  "kwargs": {"houses": None}, "layout": layout}
+        rows[f"{low}-houses-kept"] = {"kind": "legent", "label": f"{env_id}, houses=DIR, houses_kept=N",
+                                      "env_id": env_id, "kwargs": {"houses": None, "houses_kept": None},
+                                      "layout": layout}
     rows["mw-oneroom"] = {"kind": "miniworld", "label": "MiniWorld-OneRoom-v0", "env_id": "MiniWorld-OneRoom-v0"}
     rows["mw-fourrooms"] = {"kind": "miniworld", "label": "MiniWorld-FourRooms-v0",
                             "env_id": "MiniWorld-FourRooms-v0"}
@@ -96,6 +102,9 @@ def _configs() -> dict[str, dict]:
         rows[f"vec{n}-eph8"] = {"kind": "vector", "env_id": LEGENT_IDS["OneRoom"], "num_envs": n,
                                 "label": f"make_vec ComeHere-OneRoom, async, N={n}, episodes_per_house=8",
                                 "kwargs": {"episodes_per_house": 8}}
+    rows["vec2-inline"] = {"kind": "vector", "env_id": LEGENT_IDS["OneRoom"], "num_envs": 2,
+                           "label": "make_vec ComeHere-OneRoom, async, N=2, prepare_ahead=False",
+                           "kwargs": {"prepare_ahead": False}}
     rows["collect"] = {"kind": "collect", "label": "legent-gym collect ComeHere-OneRoom, --workers 1",
                        "env_id": LEGENT_IDS["OneRoom"], "kwargs": {}}
     rows["collect-eph8"] = {"kind": "collect", "env_id": LEGENT_IDS["OneRoom"],
@@ -228,6 +237,8 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
         kwargs = dict(config["kwargs"])
         if "houses" in kwargs:
             kwargs["houses"] = args.houses[config["layout"]]
+        if "houses_kept" in kwargs:
+            kwargs["houses_kept"] = args.house_count
         env = gym.make(config["env_id"], width=args.size, height=args.size, **kwargs)
         loop = _Loop(env, legent_actions(4096, seed), seed)
         facts["episode_cap"] = env.spec.max_episode_steps
@@ -399,7 +410,7 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
             if CONFIGS[name]["kind"] == "collect":
                 row["attempts"] = sum(r["attempts"] for r in w.results)
         rows[name] = row
-    for one, name in (("vec1", "vec2"), ("vec1-eph8", "vec2-eph8")):
+    for one, name in (("vec1", "vec2"), ("vec1-eph8", "vec2-eph8"), ("vec1", "vec2-inline")):
         if one in workers and name in workers and workers[one].results and workers[name].results:
             rows[name]["x_vec1"] = statistics.median(
                 _rate(b) / _rate(a) for a, b in zip(workers[one].results, workers[name].results))
@@ -527,12 +538,13 @@ def main(argv=None) -> int:
     try:
         houses, house_problem = {}, {}
         for layout in LEGENT_IDS:
-            if f"{layout.lower()}-houses" in names:
+            rows = [n for n in (f"{layout.lower()}-houses", f"{layout.lower()}-houses-kept") if n in names]
+            if rows:
                 folder = scratch / "houses" / layout
                 problem = generate_houses(layout, args.house_count, folder)
                 houses[layout] = str(folder)
                 if problem:
-                    house_problem[f"{layout.lower()}-houses"] = problem
+                    house_problem.update(dict.fromkeys(rows, problem))
         common = ["--size", str(args.size), "--seed", str(args.seed), "--collect-episodes",
                   str(args.collect_episodes), "--houses-json", json.dumps(houses), "--scratch", str(scratch)]
         workers: dict[str, Worker] = {}
