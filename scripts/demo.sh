@@ -15,3 +15,5 @@ if .venv/bin/python -c "import legent_gym.world.generation" 2>/dev/null; then
   .venv/bin/legent-gym generate --preset TwoRoom --seed 3 --out out/generated_TwoRoom_3.json --map out/generated_TwoRoom_3.png
 fi
 echo "done: images in out/"
+echo "next, play in the browser (as the user; the expert drives the agent):"
+echo "  LEGENT_EXTRAS=dev,multiagent,play bash scripts/setup.sh && .venv/bin/legent-gym play Legent/ComeHere-TwoRoom-v0"

@@ -23,6 +23,21 @@ if [ "${#need_gl[@]}" -gt 0 ]; then
   fi
 fi
 
+# The play extra's browser tests drive Debian's chromium package (never a downloaded browser build).
+case ",$extras," in
+  *,play,*|*,all,*)
+    if ! command -v chromium >/dev/null 2>&1; then
+      if command -v apt-get >/dev/null 2>&1; then
+        sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+        echo "installing system package: chromium"
+        $sudo_cmd apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq chromium >/dev/null
+      else
+        echo "warning: cannot install chromium (no apt-get); the browser tests of legent-gym play are skipped" >&2
+      fi
+    fi ;;
+esac
+
 python="${PYTHON:-python3}"
 if [ ! -x .venv/bin/python ]; then
   "$python" -m venv .venv
