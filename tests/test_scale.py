@@ -211,3 +211,26 @@ def test_bad_backend_arguments_are_refused(tmp_path, capsys, argv, message):
     assert main(["collect", ENV_ID, "--episodes", "2", "--out", str(tmp_path / "out"), *argv]) == 2
     err = capsys.readouterr().err
     assert message in err and err.count("\n") == 1
+
+
+def test_the_table_passes_the_backend_to_its_collections(tmp_path):
+    from baselines.reproduce_table import SCALES, collect_command
+
+    scale = SCALES["small"]
+    assert "--backend" not in collect_command("ComeHere-OneRoom", 0, 5, tmp_path, scale, 2)
+    command = collect_command("ComeHere-OneRoom", 0, 5, tmp_path, scale, 2, backend=Backend("ray", "auto"))
+    assert command[command.index("--backend"):][:4] == ["--backend", "ray", "--ray-address", "auto"]
+    local = collect_command("ComeHere-OneRoom", 0, 5, tmp_path, scale, 2, backend=Backend("ray"))
+    assert "--ray-address" not in local and local[local.index("--backend") + 1] == "ray"
+
+
+@pytest.mark.parametrize("script", ["baselines/evaluate.py", "baselines/reproduce_table.py"])
+def test_the_baselines_name_the_extra_when_ray_is_missing(script, tmp_path):
+    hide_ray = ("import runpy, sys; sys.modules['ray'] = None; sys.argv = sys.argv[1:]; "
+                "runpy.run_path(sys.argv[0], run_name='__main__')")
+    done = subprocess.run([sys.executable, "-c", hide_ray, script, "--backend", "ray", "--out", str(tmp_path)]
+                          if script.endswith("table.py") else
+                          [sys.executable, "-c", hide_ray, script, "--backend", "ray", "--episodes", "1"],
+                          cwd=REPO, capture_output=True, text=True)
+    assert done.returncode == 2, done.stderr[-2000:]
+    assert 'pip install -e ".[scale]"' in done.stderr and "Traceback" not in done.stderr
