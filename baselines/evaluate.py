@@ -8,7 +8,7 @@ is seeded (through an optional ``seed(seed)`` method, called once before the fir
 episode) gives the same result every run::
 
     from baselines.evaluate import RandomPolicy, evaluate
-    evaluate(RandomPolicy(), "Legent/ComeHere-OneRoom-v0", episodes=100, seed=0)  # -> 0.41
+    evaluate(RandomPolicy(), "Legent/ComeHere-OneRoom-v0", episodes=100, seed=0)  # the success rate
 
 Success is the environment's own rule (``info["success"]`` when the episode ends), under
 its step cap (25 actions, the paper's). From the shell::

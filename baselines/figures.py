@@ -1,0 +1,305 @@
+"""Figures as data: every table of measured numbers in the docs comes from a JSON file.
+
+A *figure* is one table of measured numbers. Its producer (a function here) runs the
+command that measures it and returns the table; :func:`write` saves the table with where it
+came from (:func:`provenance`: the commit, whether the tree had uncommitted changes, the
+command line, the seeds, the machine, the date and the wall time) to
+``docs/data/figures/<name>.json``; and the Markdown docs hold the table between two
+markers that :func:`refresh_docs` rewrites from that file::
+
+    <!-- figure: random-policy -->
+    | env | success | ... |
+    ...
+    <!-- /figure -->
+
+Nobody types these tables: ``python -m baselines.refresh`` measures and rewrites them, and
+``tests/baselines/test_figures.py`` fails when a block differs from its file (a figure
+edited by hand) or when a cheap figure's producer now gives other numbers than the
+committed file (a figure gone stale).
+
+*Cheap* figures are deterministic and quick (seeded episodes): the default tests and
+``--scale small`` rerun them. The others (timings, long training runs) are rerun by
+``--scale full`` only, and each table says beside it the commit it was measured at.
+"""
+
+from __future__ import annotations
+
+import datetime
+import json
+import math
+import os
+import platform
+import re
+import subprocess
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+if __package__ in (None, ""):  # run as a script: make `baselines` importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from legent_gym.atomic import atomic_write_text  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[1]
+#: Where the figures' data files live.
+FIGURE_DIR = ROOT / "docs" / "data" / "figures"
+#: The Markdown files whose figure blocks :func:`refresh_docs` rewrites.
+DOC_FILES = ("README.md", "docs/results.md", "docs/experts.md", "docs/performance.md")
+FORMAT_VERSION = 1
+BLOCK = re.compile(r"<!-- figure: (?P<name>[A-Za-z0-9_.-]+) -->\n(?P<body>.*?)<!-- /figure -->", re.S)
+
+
+class FigureError(Exception):
+    """A figure that does not exist, a data file that cannot be read, a block with no file."""
+
+
+@dataclass(frozen=True)
+class Table:
+    """What a producer measures: column names, rows of cells, and for each numeric cell
+    that is an estimate its standard error (None where a cell is not one)."""
+
+    columns: list[str]
+    rows: list[list[Any]]
+    stderr: list[list[float | None]] | None = None
+    #: Seeds or seed ranges the numbers come from, as the reader needs them.
+    seeds: str = ""
+    #: One sentence under the table (conditions the reader needs).
+    note: str = ""
+    #: A format spec per column for its numbers (default: the figure's ``number_format``).
+    formats: list[str] | None = None
+
+
+@dataclass(frozen=True)
+class Figure:
+    name: str
+    #: The command a reader runs to measure it (``python -m baselines.refresh --only NAME``
+    #: runs the same producer).
+    command: str
+    produce: Callable[[], Table]
+    #: Deterministic and quick: rerun by the default tests and by ``--scale small``.
+    cheap: bool
+    #: How a numeric cell is printed.
+    number_format: str = ".3f"
+
+
+# -- provenance -----------------------------------------------------------------------------------
+def _git(*args: str) -> str:
+    try:
+        return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True, check=True,
+                              timeout=30).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return ""
+
+
+def machine() -> dict[str, Any]:
+    """The machine a figure was measured on."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    return {"cpu": cpu, "cores": cores, "system": f"{platform.system()} {platform.release()}",
+            "python": platform.python_version()}
+
+
+def provenance() -> dict[str, Any]:
+    """Where a figure measured now comes from: the commit (with ``dirty`` when the working
+    tree differs from it), the command line, the machine and the date."""
+    return {"commit": _git("rev-parse", "HEAD") or "unknown",
+            "dirty": bool(_git("status", "--porcelain", "--untracked-files=no")),
+            "argv": [Path(sys.argv[0]).name, *sys.argv[1:]],
+            "machine": machine(),
+            "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")}
+
+
+# -- data files -----------------------------------------------------------------------------------
+def data_path(name: str) -> Path:
+    return FIGURE_DIR / f"{name}.json"
+
+
+def _shown(path: Path) -> str:
+    """A path as the docs name it: relative to the repository when inside it."""
+    try:
+        return str(path.relative_to(ROOT))
+    except ValueError:
+        return str(path)
+
+
+def measure(figure: Figure) -> dict[str, Any]:
+    """Run the figure's producer and return its data (not written)."""
+    started = time.perf_counter()
+    table = figure.produce()
+    return {"format": FORMAT_VERSION, "name": figure.name, "command": figure.command, "cheap": figure.cheap,
+            "number_format": figure.number_format, "formats": table.formats, "columns": table.columns, "rows": table.rows,
+            "stderr": table.stderr, "seeds": table.seeds, "note": table.note,
+            "wall_seconds": round(time.perf_counter() - started, 1), **provenance()}
+
+
+def write(data: dict[str, Any]) -> Path:
+    path = data_path(data["name"])
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(path, json.dumps(data, indent=1) + "\n")
+    return path
+
+
+def load(name: str) -> dict[str, Any]:
+    path = data_path(name)
+    try:
+        data = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise FigureError(f"figure {name!r} has no data file {_shown(path)}: "
+                          f"run `python -m baselines.refresh --only {name}`") from None
+    except (OSError, ValueError) as err:
+        raise FigureError(f"{_shown(path)}: unreadable figure data ({err})") from None
+    if data.get("format") != FORMAT_VERSION or data.get("name") != name:
+        raise FigureError(f"{_shown(path)}: not a figure file of format {FORMAT_VERSION} named {name!r}")
+    return data
+
+
+# -- Markdown -------------------------------------------------------------------------------------
+def _cell(value: Any, number_format: str) -> str:
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return "" if value is None else str(value)
+    if isinstance(value, int):
+        return f"{value:,}" if abs(value) >= 10_000 else str(value)
+    if isinstance(value, float):
+        return "n/a" if not math.isfinite(value) else format(value, number_format)
+    return str(value)
+
+
+def render(data: dict[str, Any]) -> str:
+    """The Markdown of a figure's block: its table, then where it comes from."""
+    formats = data.get("formats") or [data.get("number_format", ".3f")] * len(data["columns"])
+    numeric = [any(isinstance(row[c], int | float) and not isinstance(row[c], bool) for row in data["rows"])
+               for c in range(len(data["columns"]))]
+    lines = ["| " + " | ".join(data["columns"]) + " |",
+             "|" + "|".join("---:" if n else "---" for n in numeric) + "|"]
+    lines += ["| " + " | ".join(_cell(v, f) for v, f in zip(row, formats)) + " |" for row in data["rows"]]
+    commit = data["commit"][:7] + (" with uncommitted changes" if data.get("dirty") else "")
+    where = (f"Measured by `{data['command']}` at commit {commit} on {data['date']}, "
+             f"{data['machine']['cores']} cores ({data['machine']['cpu']}), {data['wall_seconds']:g} s")
+    if data.get("seeds"):
+        where += f"; seeds {data['seeds']}"
+    where += f". Data: `{_shown(data_path(data['name']))}`"
+    where += " (rerun by the default tests)." if data.get("cheap") else "."
+    out = "\n".join(lines) + "\n\n"
+    if data.get("note"):
+        out += data["note"] + "\n\n"
+    return out + where + "\n"
+
+
+def blocks(text: str) -> list[tuple[str, str]]:
+    """(figure name, block body) of every figure block in a Markdown text, in order."""
+    return [(m["name"], m["body"]) for m in BLOCK.finditer(text)]
+
+
+def rewrite(text: str, loader: Callable[[str], dict[str, Any]] = load) -> str:
+    """``text`` with every figure block rewritten from its data file."""
+    return BLOCK.sub(lambda m: f"<!-- figure: {m['name']} -->\n{render(loader(m['name']))}<!-- /figure -->", text)
+
+
+def stale_blocks(paths: Sequence[Path] | None = None) -> list[str]:
+    """The blocks that differ from their data files, as ``file: figure``."""
+    problems = []
+    for path in paths or [ROOT / p for p in DOC_FILES]:
+        for name, body in blocks(path.read_text()):
+            if body != render(load(name)):
+                problems.append(f"{path.name}: {name}")
+    return problems
+
+
+def refresh_docs(paths: Sequence[Path] | None = None) -> list[Path]:
+    """Rewrite every figure block from its data file; returns the files changed."""
+    changed = []
+    for path in paths or [ROOT / p for p in DOC_FILES]:
+        text = path.read_text()
+        new = rewrite(text)
+        if new != text:
+            atomic_write_text(path, new)
+            changed.append(path)
+    return changed
+
+
+def moved(old: dict[str, Any], new: dict[str, Any]) -> list[str]:
+    """Cells whose value moved by more than its standard error (or, with none, changed)."""
+    out = []
+    errors = new.get("stderr") or old.get("stderr")
+    for r, (a_row, b_row) in enumerate(zip(old["rows"], new["rows"])):
+        for c, (a, b) in enumerate(zip(a_row, b_row)):
+            if a == b:
+                continue
+            if isinstance(a, int | float) and isinstance(b, int | float) and not isinstance(a, bool):
+                se = errors[r][c] if errors and r < len(errors) and c < len(errors[r]) else None
+                if se is not None and abs(float(b) - float(a)) <= se:
+                    continue
+                out.append(f"{new['name']}: {b_row[0]} / {new['columns'][c]}: {a} -> {b}"
+                           + (f" (standard error {se:.3f})" if se is not None else ""))
+            else:
+                out.append(f"{new['name']}: {b_row[0]} / {new['columns'][c]}: {a!r} -> {b!r}")
+    if len(old["rows"]) != len(new["rows"]):
+        out.append(f"{new['name']}: {len(old['rows'])} rows -> {len(new['rows'])}")
+    return out
+
+
+# -- the figures ----------------------------------------------------------------------------------
+def _rate_stderr(p: float, n: int) -> float:
+    return math.sqrt(max(p * (1.0 - p), 0.0) / n)
+
+
+RANDOM_ENVS = ("Legent/ComeHere-OneRoom-v0", "Legent/ComeHere-TwoRoom-v0")
+
+
+def random_policy() -> Table:
+    """docs/results.md, "Random policy": ``baselines/evaluate.py --policy random``, 100
+    episodes from seed 0, for each ComeHere id (the command's own code path)."""
+    from baselines.vla.evaluate import evaluate_many, success_rate
+
+    results = evaluate_many([("random", env_id) for env_id in RANDOM_ENVS], 100, 0, {}, workers=1)
+    rows, errors = [], []
+    for env_id, runs in zip(RANDOM_ENVS, results):
+        rate = success_rate(runs)
+        steps = sum(r.steps for r in runs) / len(runs)
+        rows.append([env_id, rate, round(steps, 2),
+                     f"`python baselines/evaluate.py --env {env_id} --episodes 100 --seed 0`"])
+        errors.append([None, _rate_stderr(rate, len(runs)), None, None])
+    return Table(["env", "success (100 episodes)", "mean actions", "command"], rows, errors, seeds="0-99",
+                 formats=["", ".2f", ".1f", ""])
+
+
+def expert_success() -> Table:
+    """docs/experts.md, "Measured" (the quick version): the task expert on seeds 0-5 of
+    every registered id, text actions, 32x32 images."""
+    import gymnasium as gym
+
+    import legent_gym  # noqa: F401  (registers the environments)
+    from baselines.vla.evaluate import evaluate_many
+
+    ids = sorted(i for i in gym.registry if i.startswith("Legent/"))
+    results = evaluate_many([("expert", env_id) for env_id in ids], 6, 0, {"width": 32, "height": 32}, workers=1)
+    rows = []
+    for env_id, runs in zip(ids, results):
+        won = [r for r in runs if r.success]
+        mean = sum(r.steps for r in won) / len(won) if won else float("nan")
+        rows.append([env_id, f"{len(won)}/{len(runs)}", round(mean, 2), max((r.steps for r in won), default=0)])
+    return Table(["env", "expert successes", "mean actions", "max actions"], rows, seeds="0-5 of every id",
+                 formats=["", "", ".1f", "d"])
+
+
+FIGURES: dict[str, Figure] = {f.name: f for f in (
+    Figure("random-policy", "python -m baselines.refresh --only random-policy", random_policy, cheap=True),
+    Figure("expert-success", "python -m baselines.refresh --only expert-success", expert_success, cheap=True),
+)}
+
+
+def figure(name: str) -> Figure:
+    try:
+        return FIGURES[name]
+    except KeyError:
+        raise FigureError(f"no figure named {name!r}; known: {', '.join(FIGURES)}") from None

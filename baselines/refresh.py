@@ -1,0 +1,80 @@
+"""Measure the docs' figures again and rewrite their tables (see :mod:`baselines.figures`).
+
+    python -m baselines.refresh                        # the cheap figures (= --scale small)
+    python -m baselines.refresh --scale full           # every figure
+    python -m baselines.refresh --only random-policy   # these figures
+    python -m baselines.refresh --tables               # only rewrite the tables from the data files
+    python -m baselines.refresh --check                # exit 1 if a table differs from its data file
+
+Each figure measured is written to ``docs/data/figures/<name>.json`` with its commit,
+command line, seeds, machine and wall time; then every figure block of the docs is rewritten
+from the data files, and the figures that moved by more than their standard error are
+printed (old -> new).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+if __package__ in (None, ""):  # run as a script: make `baselines` importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from baselines.figures import (  # noqa: E402
+    FIGURES,
+    FigureError,
+    data_path,
+    figure,
+    load,
+    measure,
+    moved,
+    refresh_docs,
+    stale_blocks,
+    write,
+)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--scale", choices=["small", "full"], default="small",
+                        help="small: the cheap (deterministic, quick) figures; full: every figure")
+    parser.add_argument("--only", default="", help=f"comma-separated figures of: {', '.join(FIGURES)}")
+    parser.add_argument("--tables", action="store_true", help="measure nothing; rewrite the tables from the data")
+    parser.add_argument("--check", action="store_true", help="measure nothing; exit 1 if a table is not its data")
+    args = parser.parse_args(argv)
+    try:
+        if args.check:
+            stale = stale_blocks()
+            for line in stale:
+                print(f"refresh: {line} differs from its data file", file=sys.stderr)
+            return 1 if stale else 0
+        if not args.tables:
+            names = [n.strip() for n in args.only.split(",") if n.strip()]
+            chosen = [figure(n) for n in names] if names else \
+                [f for f in FIGURES.values() if f.cheap or args.scale == "full"]
+            changes: list[str] = []
+            for fig in chosen:
+                print(f"measuring {fig.name} ...", file=sys.stderr, flush=True)
+                old = load(fig.name) if data_path(fig.name).is_file() else None
+                new = measure(fig)
+                write(new)
+                print(f"  {fig.name}: {new['wall_seconds']:g} s", file=sys.stderr)
+                if old is not None:
+                    changes += moved(old, new)
+            print("moved by more than their standard error:" if changes else "no figure moved by more than its "
+                  "standard error")
+            for line in changes:
+                print(f"  {line}")
+        for path in refresh_docs():
+            print(f"rewrote {path.name}")
+    except FigureError as err:
+        print(f"refresh: error: {err}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
