@@ -132,14 +132,16 @@ def _shown(path: Path) -> str:
         return str(path)
 
 
-def measure(figure: Figure) -> dict[str, Any]:
-    """Run the figure's producer and return its data (not written)."""
+def measure(figure: Figure, origin: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Run the figure's producer and return its data (not written). ``origin``: the
+    :func:`provenance` taken before a run wrote anything (default: taken now)."""
+    origin = provenance() if origin is None else origin
     started = time.perf_counter()
     table = figure.produce()
     return {"format": FORMAT_VERSION, "name": figure.name, "command": figure.command, "cheap": figure.cheap,
             "number_format": figure.number_format, "formats": table.formats, "columns": table.columns, "rows": table.rows,
             "stderr": table.stderr, "seeds": table.seeds, "note": table.note,
-            "wall_seconds": round(time.perf_counter() - started, 1), **provenance()}
+            "wall_seconds": round(time.perf_counter() - started, 1), **origin}
 
 
 def write(data: dict[str, Any]) -> Path:

@@ -30,6 +30,7 @@ from baselines.figures import (  # noqa: E402
     load,
     measure,
     moved,
+    provenance,
     refresh_docs,
     stale_blocks,
     write,
@@ -56,10 +57,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             chosen = [figure(n) for n in names] if names else \
                 [f for f in FIGURES.values() if f.cheap or args.scale == "full"]
             changes: list[str] = []
+            origin = provenance()  # before this run writes a data file
             for fig in chosen:
                 print(f"measuring {fig.name} ...", file=sys.stderr, flush=True)
                 old = load(fig.name) if data_path(fig.name).is_file() else None
-                new = measure(fig)
+                new = measure(fig, origin)
                 write(new)
                 print(f"  {fig.name}: {new['wall_seconds']:g} s", file=sys.stderr)
                 if old is not None:
