@@ -4,20 +4,20 @@
                                [--rounds 2] [--workers 2] [--json]
 
 Both collect the same expert episodes (same seeds, Minari + LEGENT formats) into a
-temporary folder, in alternating rounds (process, Ray, process, Ray, ...) so that a change
-in the machine's load hits both alike. Reported per backend, median over the rounds:
+temporary folder. Each round runs the process backend, then starts a Ray on this machine
+(loopback, ``--workers`` CPUs, no dashboard; its start time is reported as ``ray start s``
+and counted in no rate), runs the Ray backend twice and stops Ray, so that a change in the
+machine's load hits every row alike. Reported per row, median over the rounds:
 
-* ``traj/s``: expert trajectories committed per second of wall time, everything included
-  (the process backend starts its worker processes in each run; the Ray workers start in
-  the first Ray run, which is reported apart as ``ray-cold``, and are reused after);
+* ``traj/s``: expert trajectories committed per second of wall time, everything included:
+  ``process`` starts its worker processes in the run, ``ray-cold`` is the first Ray run
+  after the start (its workers start in the run, like the process backend's),
+  ``ray-warm`` the second (its workers are up);
 * ``driver ms/ep``: CPU time of the driver (this process: taking results, committing
   episodes, progress) per episode; its inverse is the most episodes per second one driver
   commits, whatever the number of workers (``docs/scale.md``);
-* ``ratio``: Ray's traj/s over the process backend's;
+* ``ratio``: each Ray row's traj/s over the process backend's, median of the rounds' ratios;
 * ``kB/ep``: the output's size per episode (Minari + LEGENT formats).
-
-The Ray cluster is started here (loopback, ``--workers`` CPUs, no dashboard) before the
-first round; its start time is reported (``ray start s``), not counted in any rate.
 """
 
 from __future__ import annotations
@@ -59,35 +59,40 @@ def main() -> int:
     p.add_argument("--json", action="store_true", help="print the results as JSON")
     args = p.parse_args()
 
-    began = time.perf_counter()
-    connect_ray(None, args.workers)
-    ray_start = time.perf_counter() - began
-    cold = run(args.env, args.episodes, args.size, args.workers, "ray")
-    rows: dict[str, list[dict]] = {"process": [], "ray": []}
+    rows: dict[str, list[dict]] = {"process": [], "ray-cold": [], "ray-warm": []}
+    starts = []
     for _ in range(args.rounds):
-        for backend in ("process", "ray"):
-            rows[backend].append(run(args.env, args.episodes, args.size, args.workers, backend))
+        rows["process"].append(run(args.env, args.episodes, args.size, args.workers, "process"))
+        began = time.perf_counter()
+        ray = connect_ray(None, args.workers)
+        starts.append(time.perf_counter() - began)
+        rows["ray-cold"].append(run(args.env, args.episodes, args.size, args.workers, "ray"))
+        rows["ray-warm"].append(run(args.env, args.episodes, args.size, args.workers, "ray"))
+        ray.shutdown()
 
-    def median(backend: str, key: str) -> float:
-        return statistics.median(r[key] for r in rows[backend])
+    def median(row: str, key: str) -> float:
+        return statistics.median(r[key] for r in rows[row])
+
+    def ratio(row: str) -> float:
+        return statistics.median(r["traj_s"] / p["traj_s"] for r, p in zip(rows[row], rows["process"]))
 
     result = {"env": args.env, "episodes": args.episodes, "size": args.size, "workers": args.workers,
-              "rounds": args.rounds, "ray_start_s": ray_start, "cpus": len(os.sched_getaffinity(0)),
-              "load_average": os.getloadavg()[0], "ray_cold": cold, "runs": rows,
-              "process_traj_s": median("process", "traj_s"), "ray_traj_s": median("ray", "traj_s"),
-              "process_driver_ms": median("process", "driver_ms_per_episode"),
-              "ray_driver_ms": median("ray", "driver_ms_per_episode")}
-    result["ratio"] = result["ray_traj_s"] / result["process_traj_s"]
+              "rounds": args.rounds, "ray_start_s": statistics.median(starts), "cpus": len(os.sched_getaffinity(0)),
+              "load_average": os.getloadavg()[0], "runs": rows,
+              "traj_s": {row: median(row, "traj_s") for row in rows},
+              "driver_ms_per_episode": {row: median(row, "driver_ms_per_episode") for row in rows},
+              "ratio": {row: ratio(row) for row in ("ray-cold", "ray-warm")},
+              "bytes_per_episode": median("process", "bytes_per_episode")}
     if args.json:
         print(json.dumps(result, indent=1))
         return 0
     print(f"{args.env}, {args.episodes} episodes at {args.size}x{args.size}, {args.workers} workers, "
-          f"{args.rounds} rounds (load average {result['load_average']:.1f}); ray start {ray_start:.1f} s")
-    print(f"{'backend':<10} {'traj/s':>8} {'driver ms/ep':>13}")
-    print(f"{'process':<10} {result['process_traj_s']:8.2f} {result['process_driver_ms']:13.1f}")
-    print(f"{'ray':<10} {result['ray_traj_s']:8.2f} {result['ray_driver_ms']:13.1f}")
-    print(f"{'ray-cold':<10} {cold['traj_s']:8.2f} {cold['driver_ms_per_episode']:13.1f}")
-    print(f"ratio ray / process: {result['ratio']:.2f}; output {cold['bytes_per_episode'] / 1000:.0f} kB/ep")
+          f"{args.rounds} rounds (load average {result['load_average']:.1f}); ray start "
+          f"{result['ray_start_s']:.1f} s; output {result['bytes_per_episode'] / 1000:.0f} kB/ep")
+    print(f"{'backend':<10} {'traj/s':>8} {'driver ms/ep':>13} {'ratio':>6}")
+    for row in rows:
+        shown = f"{result['ratio'][row]:6.2f}" if row in result["ratio"] else f"{'':>6}"
+        print(f"{row:<10} {result['traj_s'][row]:8.2f} {result['driver_ms_per_episode'][row]:13.1f} {shown}")
     return 0
 
 
