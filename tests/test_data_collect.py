@@ -172,3 +172,12 @@ def test_scan_collection_records_the_looking_expert(tmp_path):
         collect(config, show_progress=False)  # the same folder, the direct expert: refused
     assert main(["collect", "Legent/WhereIs-OneRoom-v0", "--episodes", "1", "--out", str(tmp_path / "bad"),
                  "--find-strategy", "wander", "--quiet"]) != 0
+
+
+def test_a_relative_out_folder(tmp_path, monkeypatch):
+    # The command as a user types it in their project folder: `--out data/`.
+    monkeypatch.chdir(tmp_path)
+    assert main(["collect", "Legent/ComeHere-OneRoom-v0", "--episodes", "2", "--out", "data",
+                 "--format", "minari,legent", "--width", "32", "--height", "32", "--quiet"]) == 0
+    dataset = load_minari_dataset(tmp_path / "data" / "minari", DATASET_ID)
+    assert dataset.total_episodes == 2 and len(load_trajectories(tmp_path / "data" / "legent")) == 2

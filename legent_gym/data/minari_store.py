@@ -79,11 +79,13 @@ class MinariWriter:
 
     def __init__(self, root: str | os.PathLike, dataset_id: str, staging: str | os.PathLike):
         check_dataset_id(dataset_id)
-        self.root = Path(root)
+        # Absolute: Minari's storage joins the folder it writes an episode to with its own
+        # data path, so a relative one would be taken twice.
+        self.root = Path(root).absolute()
         self.dataset_id = dataset_id
         self.dataset_dir = self.root / dataset_id
         self.data_path = self.dataset_dir / "data"
-        self._staging_dir = Path(staging)
+        self._staging_dir = Path(staging).absolute()
         self._staging = None
         self._metadata: dict[str, Any] | None = None
 
