@@ -6,6 +6,7 @@ first.
 
 import os
 import sys
+import weakref
 
 
 def default_mujoco_gl() -> None:
@@ -19,3 +20,20 @@ def default_mujoco_gl() -> None:
 
 
 default_mujoco_gl()
+
+
+# Live OpenGL contexts, for leak checks: the renderer registers each EGL/OSMesa context it
+# makes ("gl") and each MuJoCo rendering context (``MjrContext``: framebuffers, uploaded
+# meshes and textures, "mjr"). Weak references: an object that is garbage is not counted.
+_live: dict[str, weakref.WeakSet] = {"gl": weakref.WeakSet(), "mjr": weakref.WeakSet()}
+
+
+def track_context(kind: str, context: object) -> None:
+    """Count ``context`` (kind ``"gl"`` or ``"mjr"``) in :func:`live_contexts` while it lives."""
+    _live[kind].add(context)
+
+
+def live_contexts() -> dict[str, int]:
+    """How many OpenGL contexts (``"gl"``) and MuJoCo rendering contexts (``"mjr"``) made
+    by this process's renderers are alive now."""
+    return {kind: len(objects) for kind, objects in _live.items()}

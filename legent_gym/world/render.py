@@ -33,7 +33,7 @@ from typing import Literal
 import mujoco
 import numpy as np
 
-from legent_gym import gl_backend  # noqa: F401  (before mujoco)
+from legent_gym import gl_backend  # before mujoco
 from legent_gym.world.builder import (
     GROUP_AGENT,
     GROUP_CEILING,
@@ -75,6 +75,7 @@ def _shared_gl_context(width: int, height: int):
         if gl_context.GLContext is None:
             raise RuntimeError("no OpenGL backend: set MUJOCO_GL to egl or osmesa on a headless machine")
         ctx = gl_context.GLContext(max(width, 64), max(height, 64))
+        gl_backend.track_context("gl", ctx)
         _local.context = ctx
         _local.is_current = _current_check(ctx)
     if not _local.is_current():
@@ -247,6 +248,7 @@ class Renderer:
         kept = _take_spare(self._key, model)
         if kept is None:
             self._context = mujoco.MjrContext(model, FONT_SCALE)
+            gl_backend.track_context("mjr", self._context)
             self._scene = mujoco.MjvScene(model, maxgeom=_scene_size(model))
             if getattr(_local, "scene_flags", None) is None:
                 _local.scene_flags = self._scene.flags.copy()

@@ -1,0 +1,289 @@
+"""Soak run: many steps, resets and make/close cycles in one process, watching for leaks.
+
+    python benchmarks/soak.py [--env single|multi|both] [--steps 100000] [--resets 5000]
+                              [--cycles 500] [--size 96] [--samples 20] [--seed 0]
+
+One env (``gym.make("Legent/ComeHere-OneRoom-v0")`` or the PettingZoo parallel env of the
+same id, where the user acts too) takes random text actions (moves, turns, tilts, speech,
+interactions, and malformed text that the env answers with a no-op step), starting a new
+generated house every ``steps // resets`` steps (or when the episode ends). Interleaved
+with the steps, ``cycles`` times: a second env is made, reset, stepped once and closed.
+At every sample point the process is in the same state (the soaking env open, no other
+env), and the script records resident memory (``VmRSS``, before and after handing glibc's
+free heap pages back with ``malloc_trim``: the first is what the process holds, the second
+what it uses; glibc keeps freed memory for reuse, so the first grows by fragmentation
+where nothing leaks), open file descriptors, live
+OpenGL and MuJoCo rendering contexts (:func:`legent_gym.gl_backend.live_contexts`) and
+steps/s since the last sample. After every step it checks MuJoCo's state for NaN or
+infinity (``qpos``, ``qvel``) and adds up MuJoCo's warning counters (``data.warning``).
+
+The first sample after the warm-up (a tenth of the steps) is the baseline; the report says
+how much memory grew since then and whether fds and contexts stayed equal to it. New
+houses fill bounded caches for a while (the asset registry keeps 4,096 made models and the
+link-geometry cache 4,096 links, about 400 new OneRoom houses' worth), so memory rises
+until they are full. The script pins itself to one core, as the other benchmarks do.
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import os
+import sys
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+ENV_ID = "Legent/ComeHere-OneRoom-v0"
+_MOVES = ("move_forward({:.2f})", "rotate_right({:.1f})", "rotate_down({:.1f})")
+_OTHERS = ("interact()", "grab()", "put()", "open()", "close()", 'speak("where are you?")',
+           "grab({})", "open({})", "interact({})")
+_MALFORMED = ("move_forward(", "fly()", "rotate_right(nan)", "", "speak(\"unterminated", "grab(-3)",
+              "move_forward(1e400)", "))))", "rotate_right(1, 2)")
+
+
+def random_action(rng: np.random.Generator) -> str:
+    """One step of text: one to three primitives, or (one time in ten) malformed text."""
+    roll = rng.random()
+    if roll < 0.1:
+        return str(rng.choice(_MALFORMED))
+    parts = []
+    for _ in range(int(rng.integers(1, 4))):
+        if rng.random() < 0.8:
+            template = str(rng.choice(_MOVES))
+            parts.append(template.format(rng.uniform(-1.0, 2.0) if "forward" in template
+                                         else rng.uniform(-90.0, 90.0)))
+        else:
+            parts.append(str(rng.choice(_OTHERS)).format(int(rng.integers(0, 40))))
+    return ", ".join(parts)
+
+
+def trim_heap() -> bool:
+    """Hand the C heap's free pages back to the system (glibc's ``malloc_trim``); False
+    where there is no glibc. Freed memory that glibc keeps for reuse counts in ``VmRSS``
+    until then, so a resident size measured after this is the memory still in use."""
+    import ctypes
+    import ctypes.util
+
+    name = ctypes.util.find_library("c")
+    try:
+        libc = ctypes.CDLL(name or "libc.so.6")
+        libc.malloc_trim(0)
+    except (OSError, AttributeError):
+        return False
+    return True
+
+
+def rss_mb() -> float:
+    """Resident memory of this process, MiB (``VmRSS`` in ``/proc/self/status``)."""
+    with open("/proc/self/status") as status:
+        for line in status:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024.0
+    raise RuntimeError("/proc/self/status has no VmRSS line")
+
+
+def open_fds() -> int:
+    return len(os.listdir("/proc/self/fd"))
+
+
+@dataclass
+class Sample:
+    steps: int
+    resets: int
+    cycles: int
+    seconds: float
+    rss_mb: float  # after trim_heap(): the memory in use
+    untrimmed_mb: float  # before it: what the process held
+    fds: int
+    contexts: dict[str, int]
+    steps_per_s: float  # since the previous sample
+
+
+@dataclass
+class SoakReport:
+    env: str
+    samples: list[Sample] = field(default_factory=list)
+    baseline: int = 0  # index of the sample after the warm-up
+    steps: int = 0
+    resets: int = 0
+    cycles: int = 0
+    non_finite_steps: int = 0  # steps after which qpos or qvel held NaN or infinity
+    warnings: dict[str, int] = field(default_factory=dict)  # MuJoCo warning name -> count
+
+    @property
+    def growth_mb(self) -> float:
+        return self.samples[-1].rss_mb - self.samples[self.baseline].rss_mb
+
+    @property
+    def untrimmed_growth_mb(self) -> float:
+        return self.samples[-1].untrimmed_mb - self.samples[self.baseline].untrimmed_mb
+
+    @property
+    def fds_constant(self) -> bool:
+        return len({s.fds for s in self.samples[self.baseline:]}) == 1
+
+    @property
+    def gl_constant(self) -> bool:
+        """The OpenGL (EGL) contexts alive stayed as many as at the baseline."""
+        return len({s.contexts.get("gl", 0) for s in self.samples[self.baseline:]}) == 1
+
+    @property
+    def max_mjr(self) -> int:
+        """The most MuJoCo rendering contexts alive at a sample after the warm-up (the
+        soaking env's renderers and the one a closed renderer leaves for the next)."""
+        return max(s.contexts.get("mjr", 0) for s in self.samples[self.baseline:])
+
+    def lines(self) -> list[str]:
+        out = [f"{self.env}: {self.steps} steps, {self.resets} resets, {self.cycles} make/close cycles",
+               f"{'steps':>8} {'resets':>7} {'cycles':>6} {'s':>8} {'RSS MiB':>8} {'untrim':>7} {'fds':>4} "
+               f"{'gl':>3} {'mjr':>4} {'steps/s':>8}"]
+        for i, s in enumerate(self.samples):
+            mark = "  <- baseline (after warm-up)" if i == self.baseline else ""
+            out.append(f"{s.steps:>8} {s.resets:>7} {s.cycles:>6} {s.seconds:>8.1f} {s.rss_mb:>8.1f} "
+                       f"{s.untrimmed_mb:>7.1f} {s.fds:>4} "
+                       f"{s.contexts.get('gl', 0):>3} {s.contexts.get('mjr', 0):>4} {s.steps_per_s:>8.1f}{mark}")
+        first = self.samples[0]
+        out.append(f"RSS at start {first.rss_mb:.1f} MiB, after warm-up {self.samples[self.baseline].rss_mb:.1f} MiB, "
+                   f"at end {self.samples[-1].rss_mb:.1f} MiB (growth after warm-up {self.growth_mb:+.1f} MiB; "
+                   f"untrimmed {self.samples[self.baseline].untrimmed_mb:.1f} -> {self.samples[-1].untrimmed_mb:.1f} "
+                   f"MiB, {self.untrimmed_growth_mb:+.1f}); "
+                   f"fds {'constant' if self.fds_constant else 'CHANGED'}, GL contexts "
+                   f"{'constant' if self.gl_constant else 'CHANGED'}, at most {self.max_mjr} MuJoCo "
+                   f"rendering contexts; steps with NaN/inf state: "
+                   f"{self.non_finite_steps}; MuJoCo warnings: {self.warnings or 'none'}")
+        return out
+
+
+def _make(kind: str, size: int, house_pool: list[int] | None):
+    """(env, reset, step, world) for the single-agent or the PettingZoo env of ENV_ID."""
+    import gymnasium as gym
+
+    import legent_gym  # noqa: F401  (registers the ids, picks EGL)
+
+    if kind == "single":
+        env = gym.make(ENV_ID, width=size, height=size, house_pool=house_pool)
+
+        def step(rng):
+            _, _, terminated, truncated, _ = env.step(random_action(rng))
+            return terminated or truncated
+
+        return env, lambda seed: env.reset(seed=seed), step, lambda: env.unwrapped.episode.world
+    from legent_gym.multiagent import parallel_env
+    from legent_gym.multiagent.registration import id_kwargs
+
+    penv = parallel_env(**id_kwargs(ENV_ID), width=size, height=size, house_pool=house_pool)
+
+    def pstep(rng):
+        actions = {agent: random_action(rng) for agent in penv.agents}
+        if "user" in actions and rng.random() < 0.2:
+            actions["user"] = None  # the user may pass
+        _, _, terminations, truncations, _ = penv.step(actions)
+        return any(terminations.values()) or any(truncations.values()) or not penv.agents
+
+    return penv, lambda seed: penv.reset(seed=seed), pstep, lambda: penv.episode.world
+
+
+def _check_state(world, report: SoakReport) -> None:
+    import mujoco
+
+    data = world.data
+    if not (np.isfinite(data.qpos).all() and np.isfinite(data.qvel).all()):
+        report.non_finite_steps += 1
+    for i in range(len(data.warning)):
+        count = int(data.warning[i].number)
+        if count:
+            name = mujoco.mjtWarning(i).name
+            report.warnings[name] = report.warnings.get(name, 0) + count
+            data.warning[i].number = 0  # counted once; the next count is new warnings
+
+
+def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: int = 30, *, size: int = 96,
+         samples: int = 10, seed: int = 0, house_pool: list[int] | None = None, log=None) -> SoakReport:
+    """Run the soak (see the module docstring) and return its report. ``house_pool``: the
+    houses come from these generation seeds, in turn, rather than from a new seed each
+    time, so the asset and geometry caches fill within the warm-up; with more seeds than
+    the env keeps built houses (``legent_gym.envs.episode.HOUSE_CACHE_SIZE``), every reset
+    still builds its house."""
+    from legent_gym.gl_backend import live_contexts
+
+    rng = np.random.default_rng(seed)
+    report = SoakReport(kind)
+    env, reset, step, world = _make(kind, size, house_pool)
+    episode_len = max(1, steps // max(1, resets))
+    warmup = max(1, steps // 10)
+    sample_every = max(1, (steps - warmup) // max(1, samples))
+    cycle_every = max(1, steps // max(1, cycles)) if cycles else 0
+    start = last_time = time.perf_counter()
+    last_steps = 0
+
+    def sample() -> None:
+        nonlocal last_time, last_steps
+        now = time.perf_counter()
+        rate = (report.steps - last_steps) / (now - last_time) if report.steps > last_steps else 0.0
+        gc.collect()
+        untrimmed = rss_mb()
+        trim_heap()
+        report.samples.append(Sample(report.steps, report.resets, report.cycles, now - start, rss_mb(), untrimmed,
+                                     open_fds(), live_contexts(), rate))
+        now = time.perf_counter()  # the rate leaves out the sampling
+        last_time, last_steps = now, report.steps
+        if log is not None:
+            log(report.lines()[-2] if len(report.samples) > 1 else report.lines()[-3])
+
+    try:
+        reset(int(rng.integers(2**31)))
+        report.resets += 1
+        sample()
+        in_episode = 0
+        while report.steps < steps:
+            done = step(rng)
+            report.steps += 1
+            in_episode += 1
+            _check_state(world(), report)
+            if done or in_episode >= episode_len:
+                reset(None)  # the env's own generator draws the next house
+                report.resets += 1
+                in_episode = 0
+            if cycle_every and report.steps % cycle_every == 0 and report.cycles < cycles:
+                other, other_reset, other_step, other_world = _make(kind, size, house_pool)
+                other_reset(int(rng.integers(2**31)))
+                other_step(rng)
+                _check_state(other_world(), report)
+                other.close()
+                del other, other_reset, other_step, other_world
+                report.cycles += 1
+            if report.steps == warmup:
+                sample()
+                report.baseline = len(report.samples) - 1
+            elif report.steps > warmup and ((report.steps - warmup) % sample_every == 0 or report.steps == steps):
+                sample()
+    finally:
+        env.close()
+    return report
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--env", choices=("single", "multi", "both"), default="both")
+    parser.add_argument("--steps", type=int, default=100_000)
+    parser.add_argument("--resets", type=int, default=5_000)
+    parser.add_argument("--cycles", type=int, default=500)
+    parser.add_argument("--size", type=int, default=96)
+    parser.add_argument("--samples", type=int, default=20)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    from benchmarks_common import pin_to_one_core
+
+    pin_to_one_core()
+    kinds = ("single", "multi") if args.env == "both" else (args.env,)
+    for kind in kinds:
+        report = soak(kind, args.steps, args.resets, args.cycles, size=args.size, samples=args.samples,
+                      seed=args.seed, log=lambda line: print(line, flush=True))
+        print("\n".join(report.lines()), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
