@@ -141,8 +141,8 @@ def ray_results(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int,
             _wait_for_first(ray, pending)
             yield _get(ray, pending.popleft())
     finally:
-        # Results nobody will read: what has not started is dropped, what runs finishes
-        # into the void (an attempt or a chunk of episodes: seconds).
+        # Results nobody will read: a task not started is dropped, a running one is
+        # interrupted (KeyboardInterrupt in its worker, which stays for the next tasks).
         for ref in pending:
             ray.cancel(ref)
 
