@@ -24,12 +24,23 @@ def parse_size(text: str) -> tuple[int, int]:
     return size
 
 
+def partner_spec(text: str) -> str:
+    from legent_gym.play.session import PARTNERS, is_partner
+
+    if not is_partner(text):
+        raise argparse.ArgumentTypeError(f"--partner must be one of {', '.join(PARTNERS)}, vla:CHECKPOINT or "
+                                         f"module:function, got {text!r}")
+    return text
+
+
 def add_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("env_id", help="e.g. Legent/ComeHere-OneRoom-v0")
     p.add_argument("--as", dest="role", choices=["user", "agent"], default="user",
                    help="whom the person plays (default: the user; the partner drives the agent)")
-    p.add_argument("--partner", choices=["expert", "random", "llm"], default="expert",
-                   help="the policy that drives the agent when the person is the user")
+    p.add_argument("--partner", type=partner_spec, default="expert",
+                   help="the policy that drives the agent when the person is the user: expert, random, llm, "
+                        "vla:CHECKPOINT (a model trained by baselines/vla) or module:function (returns a policy "
+                        "with reset(instruction) and act(observation))")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, loopback only)")
     p.add_argument("--allow-remote", action="store_true",
                    help="needed for a --host that is not a loopback address (anyone who can reach it and has the "

@@ -19,8 +19,10 @@ server turns its :meth:`PlaySession.state` into messages.
 from __future__ import annotations
 
 import base64
+import importlib
 import json
 import math
+import re
 import urllib.request
 from pathlib import Path
 from typing import Any
@@ -36,6 +38,10 @@ from legent_gym.world.topdown_map import draw_topdown_map
 
 ROLES = ("user", "agent")
 PARTNERS = ("expert", "random", "llm")
+#: A partner given as a trained policy: ``vla:CHECKPOINT`` (the repository's compact VLA,
+#: ``baselines/vla``) or ``module:function`` (a function of no arguments that returns a
+#: policy with ``reset(instruction)`` and ``act(observation) -> action code``).
+VLA_PREFIX = "vla:"
 #: The longest text (speech or action code) a person may send.
 MAX_TEXT = 500
 #: Pixels of the map's longer side.
@@ -135,6 +141,60 @@ class LLMPartner:
         return text[:MAX_TEXT]
 
 
+class PolicyPartner:
+    """A trained policy (the baselines' protocol: ``reset(instruction)``, then
+    ``act(observation) -> action code``) as the partner; it is reset whenever the agent's
+    instruction changes (a new episode, or the person's first words)."""
+
+    def __init__(self, policy: Any, name: str):
+        if not callable(getattr(policy, "act", None)):
+            raise ValueError(f"partner {name!r} gave {type(policy).__name__}, which has no act(observation)")
+        self.policy, self.name = policy, name
+        self.instruction: str | None = None
+
+    @property
+    def env_kwargs(self) -> dict[str, Any]:
+        """What the env must be made with for this policy (a VLA's view size)."""
+        return dict(getattr(self.policy, "env_kwargs", {}) or {})
+
+    def act(self, observation: dict[str, Any]) -> str:
+        instruction = str(observation.get("instruction", ""))
+        if instruction != self.instruction:
+            self.instruction = instruction
+            if callable(getattr(self.policy, "reset", None)):
+                self.policy.reset(instruction)
+        action = self.policy.act(observation)
+        if not isinstance(action, str):
+            raise PartnerError(f"{self.name} returned {type(action).__name__}, not action code")
+        return action
+
+
+def is_partner(name: str) -> bool:
+    """A known partner name, ``vla:CHECKPOINT`` or ``module:function``."""
+    return name in PARTNERS or name.startswith(VLA_PREFIX) or bool(re.fullmatch(r"[\w.]+:\w+", name))
+
+
+def load_policy_partner(spec: str) -> PolicyPartner:
+    """The partner of a ``vla:CHECKPOINT`` or ``module:function`` spec; ValueError naming
+    what is missing."""
+    if spec.startswith(VLA_PREFIX):
+        checkpoint = Path(spec[len(VLA_PREFIX):])
+        if not checkpoint.is_file():
+            raise ValueError(f"--partner {spec}: no checkpoint file {str(checkpoint)!r}")
+        try:
+            policy_module = importlib.import_module("baselines.vla.policy")
+        except ImportError as err:
+            raise ValueError(f"--partner {spec} needs the repository's baselines package and the baselines "
+                             f"extra (run from the repository root; {err})") from None
+        return PolicyPartner(policy_module.VLAPolicy(checkpoint), spec)
+    module_name, _, function = spec.partition(":")
+    try:
+        factory = getattr(importlib.import_module(module_name), function)
+    except (ImportError, AttributeError) as err:
+        raise ValueError(f"--partner {spec}: cannot import {function!r} from {module_name!r} ({err})") from None
+    return PolicyPartner(factory(), spec)
+
+
 def make_partner(name: str, env: Any, *, seed: int = 0, llm_url: str = "", llm_model: str = "",
                  llm_key: str = "") -> ExpertPartner | RandomPartner | LLMPartner:
     if name == "expert":
@@ -178,8 +238,8 @@ class PlaySession:
                  llm_url: str = "", llm_model: str = "", llm_key: str = "", jpeg_quality: int = 80):
         if role not in ROLES:
             raise ValueError(f"role must be one of {ROLES}, got {role!r}")
-        if partner not in PARTNERS:
-            raise ValueError(f"partner must be one of {PARTNERS}, got {partner!r}")
+        if not is_partner(partner):
+            raise ValueError(f"partner must be one of {PARTNERS}, vla:CHECKPOINT or module:function, got {partner!r}")
         if record is not None and role != "agent":
             raise ValueError("recording needs role='agent' (the person's actions are the agent's)")
         self.env_id, self.role, self.partner_name = env_id, role, partner
@@ -193,10 +253,13 @@ class PlaySession:
 
             import legent_gym.multiagent  # noqa: F401  (registers the ids)
 
+            policy = None if partner in PARTNERS else load_policy_partner(partner)
+            if policy is not None:
+                kwargs.update(policy.env_kwargs)  # e.g. the view size a VLA was trained on
             self.env = pettingzoo.make("parallel", env_id, instruction_from_user=True, max_cycles=max_cycles,
                                        **kwargs)
-            self.partner: Any = make_partner(partner, self.env.unwrapped, seed=seed, llm_url=llm_url,
-                                             llm_model=llm_model, llm_key=llm_key)
+            self.partner: Any = policy if policy is not None else make_partner(
+                partner, self.env.unwrapped, seed=seed, llm_url=llm_url, llm_model=llm_model, llm_key=llm_key)
         else:
             from legent_gym.data.rollout import make_env
 

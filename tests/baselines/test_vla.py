@@ -529,3 +529,24 @@ def test_per_dataset_trajectory_limits_are_checked():
     with pytest.raises(ValueError, match="trajectories must be >= 1"):
         TrainConfig(("a", "b"), "out", (0, None))
     assert TrainConfig(("a", "b"), "out", (5, None)).to_dict()["trajectories"] == [5, None]
+
+
+def test_a_trained_vla_drives_the_agent_in_legent_gym_play(checkpoint):
+    """`legent-gym play ENV --partner vla:CHECKPOINT`: the session's partner is the model,
+    made with the view size it was trained on, reset with the person's instruction."""
+    pytest.importorskip("pettingzoo")
+    from legent_gym.play.session import PlaySession
+
+    session = PlaySession("Legent/ComeHere-OneRoom-v0", partner=f"vla:{checkpoint}", size=(64, 48))
+    try:
+        assert session.obs["agent"]["rgb"].shape == (SIZE, SIZE, 3)
+        session.say("Come here.")  # the person's first words are the agent's instruction
+        assert session.agent_instructed
+        for _ in range(3):
+            assert session.tick()
+        assert session.partner_error == "" and session.partner.instruction == "Come here."
+        assert len(session.partner.policy._actions) >= 3
+    finally:
+        session.close()
+    with pytest.raises(ValueError, match="no checkpoint file"):
+        PlaySession("Legent/ComeHere-OneRoom-v0", partner="vla:/no/such/model.pt")
