@@ -101,7 +101,8 @@ def connect_ray(address: str | None, workers: int) -> Any:
     import logging
 
     if address is None:
-        ray.init(num_cpus=workers, include_dashboard=False, _node_ip_address="127.0.0.1",
+        # "local": a new Ray, even where RAY_ADDRESS or a `ray start` cluster would be joined.
+        ray.init(address="local", num_cpus=workers, include_dashboard=False, _node_ip_address="127.0.0.1",
                  logging_level=logging.WARNING)
     else:
         ray.init(address=address, logging_level=logging.WARNING)
