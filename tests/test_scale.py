@@ -21,6 +21,7 @@ from legent_gym.data import CollectConfig, collect
 from legent_gym.data.legent_format import load_trajectories
 from legent_gym.data.minari_store import load_minari_dataset
 from legent_gym.scale import Backend
+from legent_gym.workers import map_ordered
 
 from .conftest import REPO
 from .test_data_collect import DATASET_ID, ENV_ID, _check_whole, _committed
@@ -44,7 +45,7 @@ def ray_address():
 
     if ray.is_initialized():  # not ours: leave it
         pytest.skip("this process is connected to another Ray cluster")
-    context = ray.init(num_cpus=2, include_dashboard=False, _node_ip_address="127.0.0.1")
+    context = ray.init(address="local", num_cpus=2, include_dashboard=False, _node_ip_address="127.0.0.1")
     address = context.address_info["address"]
     assert address.startswith("127.0.0.1:")
     yield address
@@ -103,6 +104,42 @@ def _ray_tasks_running() -> list:
         except psutil.Error:
             pass
     return running
+
+
+_inits = 0
+
+
+def _count_init() -> None:
+    global _inits
+    _inits += 1
+
+
+def _step(kind: str, seconds: float):
+    """A call for the ordered map: sleeps, then returns where it ran, or fails."""
+    time.sleep(seconds)
+    if kind == "fail":
+        raise ValueError(f"failed after {seconds} s")
+    return kind, os.getpid(), _inits
+
+
+@needs_ray
+def test_the_ray_map_keeps_order_sets_up_each_worker_once_and_raises_early(ray_address):
+    calls = [("a", 0.6), ("b", 0.0), ("c", 0.3), ("d", 0.0), ("e", 0.0), ("f", 0.2)]
+    first = list(map_ordered(_step, calls, workers=2, initializer=_count_init, backend="ray"))
+    assert [kind for kind, _, _ in first] == ["a", "b", "c", "d", "e", "f"]
+    # The initializer ran once per worker process for this map, before its first call...
+    per_worker = {pid: {n for _, p, n in first if p == pid} for _, pid, _ in first}
+    assert all(len(counts) == 1 and min(counts) >= 1 for counts in per_worker.values())
+    # ...and runs again for the next map, in workers that stay.
+    again = list(map_ordered(_step, calls[:2], workers=1, initializer=_count_init, backend="ray"))
+    for _, pid, n in again:
+        if pid in per_worker:
+            assert n == min(per_worker[pid]) + 1
+
+    began = time.monotonic()
+    with pytest.raises(ValueError, match="failed after 0.1 s"):
+        list(map_ordered(_step, [("slow", 30.0), ("fail", 0.1)], workers=2, backend="ray"))
+    assert time.monotonic() - began < 20  # raised while the first call still ran
 
 
 @needs_ray
