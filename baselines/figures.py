@@ -83,6 +83,8 @@ class Figure:
     cheap: bool
     #: How a numeric cell is printed.
     number_format: str = ".3f"
+    #: A reproduce_table.py run's folder under docs/data/ (its results.json), if it is one.
+    folder: str | None = None
 
 
 # -- provenance -----------------------------------------------------------------------------------
@@ -185,6 +187,8 @@ def render(data: dict[str, Any]) -> str:
              "|" + "|".join("---:" if n else "---" for n in numeric) + "|"]
     lines += ["| " + " | ".join(_cell(v, f) for v, f in zip(row, formats)) + " |" for row in data["rows"]]
     commit = data["commit"][:7] + (" with uncommitted changes" if data.get("dirty") else "")
+    if data.get("commit_note"):
+        commit += f" ({data['commit_note']})"
     where = (f"Measured by `{data['command']}` at commit {commit} on {data['date']}, "
              f"{data['machine']['cores']} cores ({data['machine']['cpu']}), {data['wall_seconds']:g} s")
     if data.get("seeds"):
@@ -298,6 +302,90 @@ FIGURES: dict[str, Figure] = {f.name: f for f in (
     Figure("random-policy", "python -m baselines.refresh --only random-policy", random_policy, cheap=True),
     Figure("expert-success", "python -m baselines.refresh --only expert-success", expert_success, cheap=True),
 )}
+
+
+# -- the paper's table, from reproduce_table.py runs ---------------------------------------------
+def vla_table(results: dict[str, Any]) -> Table:
+    """The paper's Table 3 beside a ``reproduce_table.py`` run's ``results.json``."""
+    from baselines.reproduce_table import COLUMNS, EVAL_TASKS, PAPER_ROWS, PAPER_WHERE_IS_NOTE
+
+    episodes = len(next(iter(next(iter(results["episodes"].values())).values())))
+    rows: list[list[Any]] = [[f"{label} (paper)", *rates] for label, rates in PAPER_ROWS]
+    errors: list[list[float | None]] = [[None] * (len(COLUMNS) + 1) for _ in PAPER_ROWS]
+    for label, rates in results["success_rates"].items():
+        values = [float(rates[task]) for task in EVAL_TASKS]
+        rows.append([label, *values])
+        errors.append([None, *(_rate_stderr(v, episodes) for v in values)])
+    first, last = results["eval_seeds"]
+    note = (f"Success rates; ours over {episodes} seeded episodes per task (reset seeds {first}-{last}), the "
+            "paper's over 100. \\* never trained on (generalisation).")
+    if results.get("paper_where_is"):
+        note += " " + PAPER_WHERE_IS_NOTE
+    return Table(["Model", *COLUMNS], rows, errors, seeds=f"{first}-{last} (evaluation)", note=note,
+                 formats=["", ".2f", ".2f", ".2f", ".2f"])
+
+
+def run_folder(folder: str) -> Path:
+    """Where a table run's ``results.json``, ``table.md`` and ``table.csv`` are kept."""
+    return ROOT / "docs" / "data" / folder
+
+
+def rerun_table(folder: str, args: Sequence[str]) -> Table:
+    """Run ``reproduce_table.py`` with ``args`` into ``runs/<folder>`` (resumable), keep its
+    outputs in ``docs/data/<folder>/`` and give its table."""
+    import shutil
+
+    out = ROOT / "runs" / folder
+    subprocess.run([sys.executable, str(ROOT / "baselines" / "reproduce_table.py"), *args, "--out", str(out)],
+                   check=True, cwd=ROOT)
+    keep = run_folder(folder)
+    keep.mkdir(parents=True, exist_ok=True)
+    for name in ("results.json", "table.md", "table.csv"):
+        if (out / name).is_file():
+            shutil.copyfile(out / name, keep / name)
+    return vla_table(json.loads((keep / "results.json").read_text()))
+
+
+def adopt(name: str, commit: str, note: str = "") -> dict[str, Any]:
+    """The data of a table figure from the ``results.json`` its run kept in
+    ``docs/data/<folder>/`` (nothing is run): the run's commit as given, the date of that
+    commit, the run's own wall time. ``note`` says how the commit is known."""
+    fig = figure(name)
+    if fig.folder is None:
+        raise FigureError(f"figure {name!r} is not a reproduce_table.py run")
+    path = run_folder(fig.folder) / "results.json"
+    try:
+        results = json.loads(path.read_text())
+    except (OSError, ValueError) as err:
+        raise FigureError(f"{_shown(path)}: {err}") from None
+    table = vla_table(results)
+    full = _git("rev-parse", "--verify", "--quiet", f"{commit}^{{commit}}")
+    if not full:
+        raise FigureError(f"no commit {commit!r} in this repository")
+    return {"format": FORMAT_VERSION, "name": name, "command": fig.command, "cheap": False,
+            "number_format": fig.number_format, "formats": table.formats, "columns": table.columns,
+            "rows": table.rows, "stderr": table.stderr, "seeds": table.seeds, "note": table.note,
+            "wall_seconds": round(float(results.get("wall_seconds", {}).get("total", 0.0)), 1),
+            "commit": full, "dirty": False, "commit_note": note,
+            "argv": str(results.get("command", "")).split(), "machine": machine(),
+            "date": _git("show", "-s", "--format=%cd", "--date=format:%Y-%m-%d %H:%M UTC", full)}
+
+
+def _table_figure(name: str, folder: str, args: str) -> Figure:
+    return Figure(name, f"python baselines/reproduce_table.py {args} --out runs/{folder}",
+                  lambda: rerun_table(folder, args.split()), cheap=False, folder=folder)
+
+
+FIGURES.update({f.name: f for f in (
+    _table_figure("table-full-wide", "table_full_wide",
+                  "--scale full --perturb 0.25 --scan --channels 32,64,128,256 --epochs-large 8"),
+    _table_figure("table-full-wide-paper", "table_full_wide_paper",
+                  "--scale full --perturb 0.25 --scan --channels 32,64,128,256 --epochs-large 8 --paper-where-is"),
+    _table_figure("table-full-p25-scan", "table_full_p25_scan", "--scale full --perturb 0.25 --scan"),
+    _table_figure("table-full", "table_full", "--scale full"),
+    _table_figure("table-full-p25-scan-dagger", "table_full_p25_scan_dagger",
+                  "--scale full --perturb 0.25 --scan --dagger"),
+)})
 
 
 def figure(name: str) -> Figure:

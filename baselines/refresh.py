@@ -5,6 +5,7 @@
     python -m baselines.refresh --only random-policy   # these figures
     python -m baselines.refresh --tables               # only rewrite the tables from the data files
     python -m baselines.refresh --check                # exit 1 if a table differs from its data file
+    python -m baselines.refresh --adopt table-full --commit d54059b   # a kept run's results.json as its data
 
 Each figure measured is written to ``docs/data/figures/<name>.json`` with its commit,
 command line, seeds, machine and wall time; then every figure block of the docs is rewritten
@@ -25,6 +26,7 @@ if __package__ in (None, ""):  # run as a script: make `baselines` importable
 from baselines.figures import (  # noqa: E402
     FIGURES,
     FigureError,
+    adopt,
     data_path,
     figure,
     load,
@@ -45,9 +47,18 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--only", default="", help=f"comma-separated figures of: {', '.join(FIGURES)}")
     parser.add_argument("--tables", action="store_true", help="measure nothing; rewrite the tables from the data")
     parser.add_argument("--check", action="store_true", help="measure nothing; exit 1 if a table is not its data")
+    parser.add_argument("--adopt", metavar="NAME", help="measure nothing; take the results.json that a table run "
+                        "kept in docs/data/ as the figure's data, with --commit (the commit it ran at)")
+    parser.add_argument("--commit", help="with --adopt: the commit the run was made at")
+    parser.add_argument("--commit-note", default="", help="with --adopt: how that commit is known")
     args = parser.parse_args(argv)
     try:
-        if args.check:
+        if args.adopt:
+            if not args.commit:
+                raise FigureError("--adopt needs --commit (the commit the run was made at)")
+            print(f"wrote {write(adopt(args.adopt, args.commit, args.commit_note))}")
+            args.tables = True
+        elif args.check:
             stale = stale_blocks()
             for line in stale:
                 print(f"refresh: {line} differs from its data file", file=sys.stderr)
