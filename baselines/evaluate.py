@@ -14,6 +14,7 @@ Success is the environment's own rule (``info["success"]`` when the episode ends
 its step cap (25 actions, the paper's). From the shell::
 
     python baselines/evaluate.py --policy random --env Legent/ComeHere-OneRoom-v0 --episodes 100
+    python baselines/evaluate.py --policy vlm:runs/vlm/final --episodes 100   # a fine-tuned VLM (baselines/vlm)
 
 The command runs the episodes in seeded chunks (:func:`baselines.vla.evaluate.evaluate_many`:
 the random policy is seeded per chunk of 10) on ``--workers`` worker processes or, with
@@ -156,7 +157,8 @@ def evaluate(policy: Policy, env_id: str, episodes: int, seed: int,
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Evaluate a baseline policy (success rate over seeded episodes).")
-    parser.add_argument("--policy", choices=["random"], default="random")
+    parser.add_argument("--policy", default="random",
+                        help="'random', or vlm:PATH: a fine-tuned Hugging Face VLM folder (baselines/vlm)")
     parser.add_argument("--env", default="Legent/ComeHere-OneRoom-v0")
     parser.add_argument("--episodes", type=int, default=100)
     parser.add_argument("--seed", type=int, default=0)
@@ -173,6 +175,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     from legent_gym.scale import Backend, BackendUnavailable
 
     try:
+        if args.policy != "random" and not args.policy.startswith("vlm:"):
+            raise ValueError(f"--policy must be 'random' or vlm:PATH, got {args.policy!r}")
+        if args.policy.startswith("vlm:") and not env_kwargs:  # the view size the model was trained on
+            from baselines.vlm.policy import view_size
+
+            env_kwargs = view_size(args.policy)
         backend = Backend(args.backend, args.ray_address)
         backend.check()
         _check_counts(args.episodes, args.seed)

@@ -9,7 +9,8 @@ depend on the number of workers::
     python -m baselines.vla.evaluate --policy runs/vla/come1/model.pt \\
         --env Legent/ComeHere-OneRoom-v0 --episodes 100 --seed 0 --workers 2
 
-``--policy`` is a checkpoint, ``random`` or ``expert`` (the task expert, privileged).
+``--policy`` is a checkpoint, ``random`` or ``expert`` (the task expert, privileged); in
+:func:`evaluate_many`, also ``vlm:PATH``, a fine-tuned Hugging Face VLM (:mod:`baselines.vlm`).
 ``--env-kwargs`` passes further ``gym.make`` arguments as JSON, e.g. LEGENT's Where Is
 questions: ``--env-kwargs '{"task_options": {"objects": ["orange"], "receptacles": ["sofa"]}}'``.
 """
@@ -33,6 +34,7 @@ from legent_gym.workers import map_ordered
 
 CHUNK = 10
 RANDOM, EXPERT = "random", "expert"
+VLM = "vlm:"  # vlm:PATH, a model folder of baselines/vlm
 
 
 def run_expert(env_id: str, episodes: int, seed: int, env_kwargs: dict | None = None) -> list[EpisodeResult]:
@@ -62,6 +64,10 @@ def _init_worker() -> None:
 
 
 def run_chunk(spec: str, env_id: str, seed: int, episodes: int, env_kwargs: dict) -> list[EpisodeResult]:
+    if spec.startswith(VLM):  # a fine-tuned Hugging Face VLM (baselines/vlm): batched decoding
+        from baselines.vlm.policy import run_chunk as run_vlm_chunk
+
+        return run_vlm_chunk(spec, env_id, seed, episodes, env_kwargs)
     if spec == EXPERT:
         return run_expert(env_id, episodes, seed, env_kwargs)
     return run_episodes(_policy(spec), env_id, episodes, seed, env_kwargs)
@@ -74,6 +80,10 @@ def _chunks(episodes: int, seed: int) -> list[tuple[int, int]]:
 def check_policy(spec: str) -> str:
     if spec in (RANDOM, EXPERT):
         return spec
+    if spec.startswith(VLM):
+        from baselines.vlm.policy import check_spec
+
+        return check_spec(spec)
     if not os.path.isfile(spec):
         raise FileNotFoundError(f"policy {spec!r} is neither 'random', 'expert' nor a checkpoint file")
     return os.path.abspath(spec)
