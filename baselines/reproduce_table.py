@@ -24,6 +24,11 @@
 Every phase resumes: collect tops up its folder, a model whose ``model.pt`` was written by
 the same configuration is not trained again. Same scale and seeds, same table.
 
+``--backend ray`` (``--ray-address auto|HOST:PORT``; default: a Ray started on this machine)
+runs the collections, the training runs and the evaluation as Ray tasks, ``--workers`` at
+a time (the DAgger rollouts stay in worker processes here); the table does not depend on
+it. See ``docs/scale.md``.
+
 ``--perturb P`` goes beyond the paper's recipe (off by default, so the default table is
 the paper's protocol): recovery data. The training sets are collected with ``legent-gym
   collect --perturb P``: with probability P per step a random move or turn is executed in
