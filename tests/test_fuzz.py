@@ -380,3 +380,53 @@ def check_env_step(action):
 
 
 test_env_step, test_env_step_slow = check_env_step
+
+
+# --- the commands, on the same corpus ------------------------------------------------------
+
+CLI_SETTINGS = settings(DEFAULT, max_examples=30, suppress_health_check=[
+    *DEFAULT.suppress_health_check, HealthCheck.function_scoped_fixture])
+
+
+def _check_cli(argv: list[str], named: str, capsys) -> int:
+    """Run ``legent-gym ARGV``: success, or exit 2 with one error line that names the file
+    and comes from the documented error types (the CLI words others as "unexpected")."""
+    from legent_gym.cli import main
+
+    code = main(argv)
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    if code != 0:
+        last = err.strip().splitlines()[-1]
+        assert code == 2 and last.startswith("legent-gym: error: ") and named in last, err
+        assert "unexpected" not in last, err
+    return code
+
+
+@CLI_SETTINGS
+@given(name=st.sampled_from(sorted(SAMPLES) or ["none"]), case=GLTF_CASES)
+def test_asset_preview_on_corrupt_gltf(gltf_dir, capsys, name, case):
+    path = gltf_dir / f"{next(_names)}_{name}"
+    path.write_bytes(_corrupt(name, case))
+    out = path.with_suffix(".png")
+    if _check_cli(["asset", "preview", str(path), "--out", str(out), "--size", "32"], str(path), capsys) == 0:
+        assert out.stat().st_size > 0
+        out.unlink()
+    path.unlink()
+
+
+@CLI_SETTINGS
+@given(case=st.tuples(st.sampled_from(PATHS), MUTATIONS, VALUES))
+def test_validate_and_render_on_broken_scenes(tmp_path_factory, capsys, case):
+    (base, path), mutation, value = case
+    data = copy.deepcopy(BASE_SCENES[base])
+    _mutate(data, path, mutation, value)
+    folder = tmp_path_factory.mktemp("fuzz_scene", numbered=True)
+    scene = folder / "scene.json"
+    scene.write_text(json.dumps(data))
+    valid = _check_cli(["validate", str(scene)], str(scene), capsys) == 0
+    out = folder / "top.png"
+    rendered = _check_cli(["render", str(scene), "--view", "topdown", "--size", "32", "--out", str(out)],
+                          str(scene), capsys) == 0
+    assert rendered <= valid  # a scene that does not validate does not render
+    assert out.exists() == rendered
