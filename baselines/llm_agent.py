@@ -33,10 +33,8 @@ import argparse
 import base64
 import io
 import json
-import os
 import re
 import sys
-import time
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
@@ -47,8 +45,8 @@ import numpy as np
 from PIL import Image
 
 from legent_gym.agent.actions import ActionLimits, ActionParseError, format_actions, parse_actions
+from legent_gym.llm import ChatClient, EndpointError
 
-OPENAI_BASE_URL = "https://api.openai.com/v1"
 NOOP_ACTION = "rotate_right(0)"
 """What the agent does when no reply parses: a valid step that changes nothing."""
 
@@ -73,12 +71,6 @@ _FEEDBACK = ("That reply is not valid action code ({error}). Reply with the acti
              "for example: move_forward(1.5), rotate_right(-30)")
 _FENCE = re.compile(r"^```[A-Za-z]*\s*|\s*```$")
 _PREFIX = re.compile(r"^\s*(?:action\s*:\s*)", re.IGNORECASE)
-# HTTP statuses worth retrying: request timeout, conflict, rate limit, server errors.
-_TRANSIENT_STATUS = {408, 409, 429}
-
-
-class EndpointError(RuntimeError):
-    """The chat endpoint could not be used (unreachable, refusing, or not answering like the API)."""
 
 
 @dataclass
@@ -120,103 +112,22 @@ def image_data_url(frame: np.ndarray) -> str:
 
 
 class ChatEndpoint:
-    """One OpenAI-compatible chat completions endpoint, with our retry policy on top of the
-    ``openai`` client (whose own retries are off, so that every failure is seen and counted)."""
+    """One OpenAI-compatible chat completions endpoint: :class:`legent_gym.llm.ChatClient`
+    (retries, backoff, errors naming the URL) with the agent's reply length and temperature."""
 
     def __init__(self, base_url: str | None = None, api_key: str | None = None, *, model: str,
                  timeout: float = 60.0, max_retries: int = 3, backoff: float = 1.0, max_backoff: float = 30.0,
                  max_tokens: int = 64, temperature: float = 0.0):
-        try:
-            import openai
-        except ImportError:
-            raise ImportError("the LLM agent needs the openai client: pip install -e '.[baselines]'") from None
-
-        base_url = base_url or os.environ.get("OPENAI_BASE_URL") or OPENAI_BASE_URL
-        if not re.match(r"^https?://[^/\s]+", base_url):
-            raise ValueError(f"base URL must be an http(s) URL, got {base_url!r}")
-        api_key = api_key or os.environ.get("OPENAI_API_KEY")
-        if not api_key:
-            if base_url.rstrip("/") == OPENAI_BASE_URL:
-                raise ValueError(f"{OPENAI_BASE_URL} needs an API key: pass --api-key or set OPENAI_API_KEY")
-            api_key = "unused"  # local servers (vLLM, llama.cpp, ...) ignore it, the client wants one
-        if not model:
-            raise ValueError("model must be a non-empty name")
-        if not timeout > 0:
-            raise ValueError(f"timeout must be positive seconds, got {timeout!r}")
-        if isinstance(max_retries, bool) or not isinstance(max_retries, int) or max_retries < 0:
-            raise ValueError(f"max_retries must be a non-negative integer, got {max_retries!r}")
-        if backoff < 0 or max_backoff < 0:
-            raise ValueError(f"backoff and max_backoff must be non-negative, got {backoff!r}, {max_backoff!r}")
-        self._openai = openai
-        self.base_url = base_url
-        self.model, self.timeout, self.max_retries = model, timeout, max_retries
-        self.backoff, self.max_backoff = backoff, max_backoff
+        self.client = ChatClient(base_url, api_key, model=model, timeout=timeout, max_retries=max_retries,
+                                 backoff=backoff, max_backoff=max_backoff)
+        self.base_url, self.model = self.client.base_url, model
+        self.timeout, self.max_retries = self.client.timeout, max_retries
         self.max_tokens, self.temperature = max_tokens, temperature
-        self.client = openai.OpenAI(base_url=base_url, api_key=api_key, timeout=timeout, max_retries=0)
 
     def complete(self, messages: list[dict[str, Any]], trace: StepTrace) -> str:
         """The reply's text (``""`` if the message has none). Retries transient failures;
         raises :class:`EndpointError` naming the URL when they persist or are not transient."""
-        attempts = 1 + self.max_retries
-        for attempt in range(attempts):
-            trace.requests += 1
-            try:
-                response = self.client.chat.completions.create(
-                    model=self.model, messages=messages, max_tokens=self.max_tokens, temperature=self.temperature)
-                return self._content(response)
-            except self._openai.APIStatusError as err:
-                if err.status_code not in _TRANSIENT_STATUS and err.status_code < 500:
-                    raise EndpointError(f"chat endpoint {self.base_url} refused the request: HTTP "
-                                        f"{err.status_code}: {_short(_error_detail(err))}") from None
-                failure, wait = f"HTTP {err.status_code}", _retry_after(err)
-            except self._openai.APITimeoutError:
-                failure, wait = f"no reply within {self.timeout:g} s", None
-            except self._openai.APIConnectionError as err:
-                failure, wait = f"connection failed: {_short(str(err.__cause__ or err))}", None
-            except (_Malformed, json.JSONDecodeError) as err:  # a JSON content type on a non-JSON body
-                failure, wait = f"not a chat completion: {_short(str(err))}", None
-            trace.errors.append(failure)
-            if attempt + 1 < attempts:
-                delay = self.backoff * 2**attempt
-                time.sleep(min(self.max_backoff, max(delay, wait or 0.0)))
-        raise EndpointError(f"chat endpoint {self.base_url} failed {attempts} time(s) "
-                            f"(last: {trace.errors[-1]})") from None
-
-    def _content(self, response: Any) -> str:
-        # With the client's lenient validation, a non-JSON body comes back as a str and a
-        # body without choices as a ChatCompletion whose choices are None.
-        if not isinstance(response, self._openai.types.chat.ChatCompletion):
-            raise _Malformed(f"the body is {_short(repr(response))}")
-        choices = response.choices
-        if not choices:
-            raise _Malformed("no choices in the response")
-        message = getattr(choices[0], "message", None)
-        if message is None:
-            raise _Malformed("the first choice has no message")
-        return message.content or ""
-
-
-class _Malformed(Exception):
-    """A 200 answer that is not a chat completion."""
-
-
-def _short(text: str, limit: int = 200) -> str:
-    text = " ".join(text.split())
-    return text if len(text) <= limit else text[:limit] + "..."
-
-
-def _error_detail(err: Any) -> str:
-    """The server's own error message when the body has one (the API's ``{"error": {"message"}}``)."""
-    body = err.body if isinstance(err.body, dict) else {}
-    detail = body.get("error", body) if isinstance(body.get("error"), dict) else body
-    return str(detail.get("message") or err.message)
-
-
-def _retry_after(err: Any) -> float | None:
-    try:
-        return float(err.response.headers.get("retry-after"))
-    except (AttributeError, TypeError, ValueError):
-        return None
+        return self.client.complete(messages, max_tokens=self.max_tokens, temperature=self.temperature, log=trace)
 
 
 class LLMAgent:

@@ -23,7 +23,8 @@ Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command),
 :mod:`legent_gym.gl_backend` (picks EGL before MuJoCo is imported),
 :mod:`legent_gym.atomic` (atomic file writes), :mod:`legent_gym.workers` (worker processes:
 forkserver, one core each, results in order), :mod:`legent_gym.scale` (the same as Ray
-tasks, on one machine or a cluster).
+tasks, on one machine or a cluster), :mod:`legent_gym.llm` (one client for any
+OpenAI-compatible chat endpoint, its JSON replies validated with pydantic).
 """
 
 from legent_gym import gl_backend  # noqa: F401  (must run before mujoco is imported)
