@@ -165,7 +165,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--width", type=int, default=None)
     parser.add_argument("--height", type=int, default=None)
     parser.add_argument("--json", action="store_true", help="print every episode as JSON")
-    parser.add_argument("--workers", type=int, default=1, help="worker processes (with --backend ray: Ray tasks at once)")
+    parser.add_argument("--workers", type=int, default=1, help="worker processes (with --backend ray: 2 K tasks in flight; a local Ray gets K CPUs)")
     parser.add_argument("--backend", choices=["process", "ray"], default="process",
                         help="worker processes on this machine or Ray tasks (the scale extra)")
     parser.add_argument("--ray-address", help="with --backend ray: 'auto' or HOST:PORT (default: start a local Ray)")

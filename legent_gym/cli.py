@@ -255,7 +255,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--episodes", type=int, required=True, help="successful episodes wanted in all")
     p.add_argument("--out", required=True, help="output directory (resumed if it holds a collection)")
     p.add_argument("--format", default="minari,legent", help="comma-separated: minari, legent, video")
-    p.add_argument("--workers", type=int, default=1, help="worker processes (with --backend ray: Ray tasks at once)")
+    p.add_argument("--workers", type=int, default=1, help="worker processes (with --backend ray: 2 K tasks in flight; a local Ray gets K CPUs)")
     p.add_argument("--backend", choices=["process", "ray"], default="process",
                    help="worker processes on this machine or Ray tasks (the scale extra); see docs/scale.md")
     p.add_argument("--ray-address", help="with --backend ray: 'auto' or HOST:PORT of a running Ray cluster "

@@ -76,8 +76,10 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
 
     ``backend`` (:mod:`legent_gym.scale`): ``"process"`` (the default, as above) or
     ``"ray"`` / a :class:`~legent_gym.scale.Backend` with a Ray address: the calls run as
-    Ray tasks, ``workers`` at a time, under the same contract (order, ``ahead``, errors);
-    ``workers == 1`` then runs them in one Ray worker too.
+    Ray tasks under the same contract (order, ``ahead``, errors); a Ray started here has
+    ``workers`` CPUs, so ``workers`` run at a time; on a cluster, as many of the
+    ``ahead * workers`` in flight as it has free CPUs. ``workers == 1`` runs them as Ray
+    tasks too.
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
