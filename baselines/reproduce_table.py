@@ -21,13 +21,18 @@
    ``table.csv``, ``table.png`` (bars), and ``results.json`` with every episode, the
    configuration and the wall time of each phase.
 
+``--model vlm:PATH`` fine-tunes a Hugging Face VLM (a folder or hub id) in place of
+training the VLA, as the paper fine-tuned VILA: the same data, Sep and Joint runs and
+evaluation (:mod:`baselines.vlm.table`; models in ``vlm/<run>/final``; ``docs/vlm.md``).
+
 Every phase resumes: collect tops up its folder, a model whose ``model.pt`` was written by
 the same configuration is not trained again. Same scale and seeds, same table.
 
 ``--backend ray`` (``--ray-address auto|HOST:PORT``; default: a Ray started on this machine)
 runs the collections, the training runs and the evaluation as Ray tasks, ``--workers`` at
-a time (the DAgger rollouts stay in worker processes here); the table does not depend on
-it. See ``docs/scale.md``.
+a time (the DAgger rollouts stay in worker processes here); a Ray started here serves every
+phase, the collections' subprocesses join it. The table does not depend on the backend
+(tested at scale small: the same weights, episodes and table). See ``docs/scale.md``.
 
 ``--perturb P`` goes beyond the paper's recipe (off by default, so the default table is
 the paper's protocol): recovery data. The training sets are collected with ``legent-gym
@@ -78,7 +83,7 @@ from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  
 from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
-from legent_gym.scale import Backend  # noqa: E402
+from legent_gym.scale import Backend, connect_ray  # noqa: E402
 from legent_gym.tasks.household import PAPER_WHERE_IS  # noqa: E402
 from legent_gym.workers import map_ordered  # noqa: E402
 
@@ -468,7 +473,8 @@ def write_outputs(root: Path, scale_name: str, scale: Scale, evaluated: dict, ex
 def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, eval_seed: int = 0,
         perturb: float = 0.0, scan: bool = False, dagger: bool = False,
         channels: tuple[int, ...] | None = None, epochs_large: int | None = None, film: bool = False,
-        paper_where_is: bool = False, shift: int = 0, backend: Backend = PROCESS) -> dict:
+        paper_where_is: bool = False, shift: int = 0, backend: Backend = PROCESS, model: str | None = None,
+        vlm_epochs: int = 2) -> dict:
     """The whole table; ``perturb``: recovery data; ``scan``: Where Is demonstrations that
     look around first; ``dagger``: a DAgger round on the large Sep models (see the module
     docstring); ``channels`` and ``epochs_large`` replace the scale's encoder widths and
@@ -476,7 +482,9 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     (use a new ``out``: the model folders keep their names); ``paper_where_is``: Where Is
     asks LEGENT's objects on LEGENT's receptacles; ``shift``: training views shifted at
     random by up to that many pixels; ``backend``: where collection, training and
-    evaluation run (worker processes or Ray tasks; the table does not depend on it)."""
+    evaluation run (worker processes or Ray tasks; the table does not depend on it);
+    ``model``: ``vlm:PATH``, a Hugging Face VLM fine-tuned ``vlm_epochs`` epochs per run
+    in place of the VLA (:mod:`baselines.vlm.table`)."""
     if scale_name not in SCALES:
         raise ValueError(f"unknown scale {scale_name!r}; known: {', '.join(SCALES)}")
     if workers < 1:
@@ -496,9 +504,19 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     check_shift(shift, scale.image_size)  # now, not after collecting
     scale = replace(scale, shift=shift)
     episodes = episodes or scale.episodes
+    if model is not None:  # checked now, not after collecting
+        from baselines.vlm import table as vlm_table
+
+        base = vlm_table.base_model(model)
+        if dagger:
+            raise ValueError("--dagger trains the compact VLA; it does not combine with --model")
     if eval_seed + episodes > DATA_SEED:
         raise ValueError(f"evaluation seeds must stay below the data's ({DATA_SEED})")
     out.mkdir(parents=True, exist_ok=True)
+    if backend.kind == "ray" and backend.address is None:
+        # One Ray on this machine for every phase: the collections (subprocesses) join it.
+        ray = connect_ray(None, workers)
+        backend = Backend("ray", ray.get_runtime_context().gcs_address)
     times, started = {}, time.monotonic()
 
     log(f"scale {scale_name}: {asdict(scale)}; output {out}")
@@ -507,8 +525,12 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     times["data"] = time.monotonic() - t
 
     t = time.monotonic()
-    runs = training_runs(out, folders, scale)
-    metrics = train_models(runs, workers, backend)
+    if model is not None:
+        runs = vlm_table.training_runs(out, folders, TRAIN_TASKS, scale.small, scale.large, base, vlm_epochs)
+        metrics = vlm_table.train_models(runs, log)
+    else:
+        runs = training_runs(out, folders, scale)
+        metrics = train_models(runs, workers, backend)
     times["training"] = time.monotonic() - t
 
     if dagger:
@@ -522,7 +544,8 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
         times["dagger_training"] = time.monotonic() - t
 
     t = time.monotonic()
-    rows = table_rows(out, scale, dagger)
+    rows = table_rows(out, scale, dagger) if model is None else vlm_table.table_rows(
+        out, scale.small, scale.large, EVAL_TASKS, SEP_MODEL_FOR, _amount, RANDOM, EXPERT)
     log(f"evaluating {len(rows)} rows x {len(EVAL_TASKS)} tasks x {episodes} episodes")
     evaluated = evaluate_rows(rows, scale, episodes, eval_seed, workers, paper_where_is, backend)
     times["evaluation"] = time.monotonic() - t
@@ -569,6 +592,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     p.add_argument("--backend", choices=["process", "ray"], default="process",
                    help="collection, training and evaluation in worker processes or as Ray tasks (the scale extra)")
     p.add_argument("--ray-address", help="with --backend ray: 'auto' or HOST:PORT (default: start a local Ray)")
+    p.add_argument("--model", help="vlm:PATH: fine-tune this Hugging Face VLM (folder or hub id) in place of the VLA")
+    p.add_argument("--vlm-epochs", type=int, default=2, help="with --model: epochs per fine-tuning run")
     args = p.parse_args(argv)
     out = Path(args.out or f"out/table-{args.scale}")
     try:
@@ -579,7 +604,8 @@ def main(argv: Sequence[str] | None = None) -> int:
         backend = Backend(args.backend, args.ray_address)
         backend.check()
         run(args.scale, out, args.workers, args.episodes, args.eval_seed, args.perturb, args.scan, args.dagger,
-            channels, args.epochs_large, args.film, args.paper_where_is, args.shift, backend)
+            channels, args.epochs_large, args.film, args.paper_where_is, args.shift, backend, args.model,
+            args.vlm_epochs)
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         print(f"reproduce_table: error: {err}", file=sys.stderr)
         return 2

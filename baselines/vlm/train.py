@@ -81,6 +81,7 @@ class FinetuneConfig:
     seed: int = 0
     save_every: int = 200            # optimizer steps between checkpoints
     dtype: str = "auto"              # auto (bf16 on GPU, fp32 on CPU), bf16, fp32
+    threads: int | None = None       # torch CPU threads (None: torch's default); not part of the model
     extra: dict = field(default_factory=dict)  # free-form notes kept with the run
 
     def __post_init__(self) -> None:
@@ -109,11 +110,11 @@ class FinetuneConfig:
         return json.loads(json.dumps(asdict(self)))
 
     def matches(self, other: dict[str, Any] | None) -> bool:
-        """Whether ``other`` (a :meth:`to_dict`) trains the same model (``save_every`` aside)."""
+        """Whether ``other`` (a :meth:`to_dict`) trains the same model (``save_every`` and ``threads`` aside)."""
         if not isinstance(other, dict):
             return False
         mine = self.to_dict()
-        return all(mine.get(f.name) == other.get(f.name) for f in fields(self) if f.name != "save_every")
+        return all(mine.get(f.name) == other.get(f.name) for f in fields(self) if f.name not in ("save_every", "threads"))
 
 
 def _batches(n: int, config: FinetuneConfig, epoch: int, rank: int, world: int) -> list[list[list[int]]]:
@@ -167,6 +168,8 @@ def train(config: FinetuneConfig, resume: bool = True, show_progress: bool = Tru
     bf16 = dtype == torch.bfloat16
     accelerator = Accelerator(cpu=not cuda, mixed_precision="bf16" if bf16 else "no")
     rank, world = accelerator.process_index, accelerator.num_processes
+    if config.threads is not None:
+        torch.set_num_threads(config.threads)
     torch.manual_seed(config.seed)
 
     processor = load_processor(source)

@@ -152,3 +152,26 @@ def test_errors_name_what_is_wrong(setup, tmp_path, capsys):
     assert train_main(["--model", str(tmp_path), "--data", str(root / "data"), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "no config.json" in err
+
+
+@pytest.mark.slow
+def test_table(tmp_path, capsys):
+    """reproduce_table.py --scale small --model vlm:<tiny model>, end to end (data, seven
+    fine-tuning runs, evaluation of every row on the four tasks, the tables)."""
+    from baselines.reproduce_table import EVAL_TASKS
+    from baselines.reproduce_table import main as table_main
+
+    base = build_tiny_model(tmp_path / "tiny", image_size=48)
+    out = tmp_path / "table"
+    assert table_main(["--scale", "small", "--model", f"vlm:{base}", "--vlm-epochs", "1", "--out", str(out)]) == 0
+    results = json.loads((out / "results.json").read_text())
+    assert list(results["success_rates"]) == ["Random", "VLM-Sep 10 (ours)", "VLM-Sep 20 (ours)",
+                                              "VLM-Joint 20 (ours)", "Expert (privileged)"]
+    assert all(set(rates) == set(EVAL_TASKS) for rates in results["success_rates"].values())
+    assert results["success_rates"]["Expert (privileged)"]["ComeHere-OneRoom"] == 1.0
+    assert len(results["training"]) == 7 and all(r["metrics"]["finished"] for r in results["training"].values())
+    assert "VLM-Joint 20 (ours)" in (out / "table.md").read_text()
+    assert (out / "vlm" / "joint20" / FINAL / "legent_vlm.json").is_file()
+    # A model that is not one: refused in one line before any data is collected.
+    assert table_main(["--scale", "small", "--model", f"vlm:{tmp_path / 'none'}", "--out", str(tmp_path / "t2")]) == 2
+    assert "no model folder" in capsys.readouterr().err and not (tmp_path / "t2" / "data").exists()
