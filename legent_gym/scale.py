@@ -26,6 +26,7 @@ own thread (``LP_NUM_THREADS=0``), as a process worker does.
 from __future__ import annotations
 
 import importlib
+import importlib.util
 import os
 import sys
 import uuid
@@ -70,9 +71,10 @@ class Backend:
         return backend if isinstance(backend, Backend) else cls(backend)
 
     def check(self) -> None:
-        """Raise :class:`BackendUnavailable` now if this backend cannot run here."""
-        if self.kind == "ray":
-            require_ray()
+        """Raise :class:`BackendUnavailable` now if this backend cannot run here. Ray is
+        looked for, not imported: :func:`connect_ray` sets its environment first."""
+        if self.kind == "ray" and importlib.util.find_spec("ray") is None:
+            raise BackendUnavailable(RAY_MISSING)
 
 
 def _host_port(address: str) -> bool:

@@ -229,6 +229,21 @@ def test_evaluation_through_ray_equals_in_process(ray_address, capsys):
                                     "episodes (seed 0)")
 
 
+@needs_ray
+def test_a_ray_started_by_collect_serves_the_loopback_interface_only(tmp_path):
+    """Without --ray-address, collect starts a Ray of --workers CPUs bound to 127.0.0.1."""
+    script = ("import sys; from legent_gym.cli import main; code = main(sys.argv[1:]); import ray; "
+              "print(ray.get_runtime_context().gcs_address, ray.cluster_resources()['CPU']); sys.exit(code)")
+    env = {k: v for k, v in os.environ.items() if not k.startswith("RAY_")}
+    done = subprocess.run([sys.executable, "-c", script, "collect", ENV_ID, "--episodes", "2", "--out",
+                           str(tmp_path / "out"), "--backend", "ray", "--quiet", *SIZE], cwd=REPO, env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-3000:]
+    address, cpus = done.stdout.split()[-2:]
+    assert address.startswith("127.0.0.1:") and float(cpus) == 1.0  # --workers 1
+    assert _check_whole(tmp_path / "out", expected=2) == 2
+
+
 def test_a_missing_ray_is_one_line_naming_the_extra(tmp_path):
     hide_ray = ("import sys; sys.modules['ray'] = None; from legent_gym.cli import main; "
                 "sys.exit(main(sys.argv[1:]))")
