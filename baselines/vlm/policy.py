@@ -97,7 +97,10 @@ class VLMPolicy:
             images.append(list(episode.views))
         tokenizer = self.encoder.tokenizer
         tokenizer.padding_side = "left"
-        inputs = self.processor(text=prompts, images=images, padding=True, return_tensors="pt").to(self.device)
+        batch = self.processor(text=prompts, images=images, padding=True, return_tensors="pt")
+        dtype = self.model.dtype  # pixel values in the weights' dtype (bfloat16 on a GPU)
+        inputs = {k: v.to(self.device, dtype=dtype) if v.is_floating_point() else v.to(self.device)
+                  for k, v in batch.items()}
         with torch.no_grad():
             out = self.model.generate(**inputs, max_new_tokens=self.max_new_tokens, do_sample=False,
                                       pad_token_id=tokenizer.pad_token_id)

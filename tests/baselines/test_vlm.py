@@ -123,7 +123,10 @@ def test_lora_merges_into_a_plain_model(setup):
     root, base = setup
     config = FinetuneConfig(str(base), (str(root / "data"),), str(root / "lora"), limit=2, epochs=2, batch_size=4,
                             grad_accum=1, lr=1e-2, lora_rank=4, lora_dropout=0.0)
-    metrics = train(config, resume=False, show_progress=False)
+    first = train(config, resume=False, show_progress=False, max_steps=1)  # then resumed from the adapter
+    assert not first["finished"] and (root / "lora" / LAST / "adapter_config.json").is_file()
+    metrics = train(config, show_progress=False)
+    assert metrics["finished"] and metrics["steps"] == 4  # 2 trajectories, 6 samples: 2 steps an epoch
     assert 0 < metrics["trainable_parameters"] < metrics["parameters"] / 2
     before = load_model(str(base)).state_dict()
     after = load_model(str(root / "lora" / FINAL)).state_dict()  # no peft wrapper: merged
