@@ -24,7 +24,8 @@ Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command),
 :mod:`legent_gym.atomic` (atomic file writes), :mod:`legent_gym.workers` (worker processes:
 forkserver, one core each, results in order), :mod:`legent_gym.scale` (the same as Ray
 tasks, on one machine or a cluster), :mod:`legent_gym.llm` (one client for any
-OpenAI-compatible chat endpoint, its JSON replies validated with pydantic).
+OpenAI-compatible chat endpoint, its JSON replies validated with pydantic),
+:mod:`legent_gym.prompts` (the LLM prompts, versioned; scenes from plans and prompts).
 """
 
 from legent_gym import gl_backend  # noqa: F401  (must run before mujoco is imported)

@@ -6,6 +6,8 @@
     legent-gym asset preview PATH.glb|ASSET_ID --out FILE.png [--size N] [--variant K]
     legent-gym generate --preset TwoRoom --seed 3 --out house.json [--map house.png]
     legent-gym generate --preset TwoRoom --seed 0 --count 100 --out-dir houses/
+    legent-gym generate --plan plan.json --seed 0 --out house.json [--map house.png]
+    legent-gym generate --prompt "a flat with a kitchen" --llm-base-url URL --model M [--timeout S] [--retries N] --out house.json
     legent-gym collect ENV_ID --episodes N --out DIR [--format minari,legent,video] [--workers K] [--seed S]
         [--backend process|ray] [--ray-address auto|HOST:PORT]
     legent-gym play ENV_ID [--as user|agent] [--partner expert|random|llm] [--port P] [--size WxH] [--record DIR]
@@ -129,6 +131,13 @@ def cmd_generate(args) -> int:
 
     if not 0 <= args.seed <= MAX_SEED:
         raise UserError(f"--seed must be between 0 and {MAX_SEED}, got {args.seed}")
+    if args.plan is not None or args.prompt is not None:
+        from legent_gym.prompts import generate_scene
+
+        for path in (args.out, args.map):
+            if path:
+                _check_output(path)
+        return generate_scene(args, UserError)
     if args.count < 1:
         raise UserError(f"--count must be >= 1, got {args.count}")
     if args.seed + args.count - 1 > MAX_SEED:
@@ -246,6 +255,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--map", help="also write the top-down map PNG (single house)")
     p.add_argument("--count", type=int, default=1, help="number of houses (seeds seed..seed+count-1)")
     p.add_argument("--out-dir", help="directory for a batch")
+    p.add_argument("--plan", help="build the house of a scene plan (JSON; see docs/llm.md) instead of a preset")
+    p.add_argument("--prompt", help="ask an LLM for a plan of this description, build it, save the plan beside --out")
+    from legent_gym.prompts import add_llm_arguments
+
+    add_llm_arguments(p)
     p.set_defaults(func=cmd_generate)
 
     p = sub.add_parser("collect", parents=[common], help="record successful trajectories (of the expert by default)",

@@ -315,11 +315,13 @@ def score_plan(grid: np.ndarray, targets: list[int], types: list[str]) -> float:
 
 
 def plan_grid(types: list[str], rng: np.random.Generator, *, cell_range: tuple[float, float],
-              area: tuple[float, float] | None = None, candidates: int = 16) -> GridPlan:
-    """The best of several grown candidates for these room types.
+              area: tuple[float, float] | None = None, candidates: int = 16,
+              targets: list[int] | None = None) -> GridPlan:
+    """The best of several grown candidates for these room types (``targets``: size in
+    cells per room; drawn from the room types' ranges when None).
 
     Raises :class:`PlanFailed` when no candidate is valid (the caller retries)."""
-    targets = sample_targets(types, rng)
+    targets = sample_targets(types, rng) if targets is None else list(targets)
     cell = (r4(rng.uniform(*cell_range)), r4(rng.uniform(*cell_range)))
     single_wide = len(types) == 1 and ROOM_TYPES[types[0]].wide
     inside = sample_outline(sum(targets), rng, single_wide=single_wide)
@@ -530,6 +532,18 @@ def place_doors(fp: FloorPlan, rng: np.random.Generator, *, openness: float = 1.
     fp.doors.append(front)
     for k, d in enumerate(fp.doors):
         d.id = f"door_{k}"
+
+
+def add_door(fp: FloorPlan, pair: tuple[int, int], rng: np.random.Generator, *, openness: float = 1.0) -> bool:
+    """A door between two adjacent rooms where one fits; False where none does. Doors are
+    renumbered ``door_0``, ``door_1``, ... in order."""
+    door = _fitting_door(fp, lambda: _door_between(fp, pair, rng, archway=False, openness=openness), rng)
+    if door is None:
+        return False
+    fp.doors.append(door)
+    for k, d in enumerate(fp.doors):
+        d.id = f"door_{k}"
+    return True
 
 
 def _door_zones(fp: FloorPlan, door: Door) -> tuple[list[np.ndarray], np.ndarray | None]:

@@ -569,6 +569,26 @@ class Furnisher:
             self._rollback(space, len(placed))
         return False
 
+    # -- single pieces, for other placers (the plan solver) -----------------------------
+    def footprints(self, category: str, asset: str, variant: int, model: AssetModel, xs: np.ndarray,
+                   ys: np.ndarray, qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Footprints and front zones (C, 1, 4) of one piece at candidate poses."""
+        return self._member_rects([Member(category, asset, variant, model, 0.0, 0.0, 0)], xs, ys, qs)
+
+    def add_piece(self, space: RoomSpace, category: str, asset: str, variant: int, model: AssetModel,
+                  x: float, y: float, q: int, rect: np.ndarray, front: np.ndarray) -> int:
+        """Commit one piece on the floor (checked by :meth:`valid`); its index in ``pieces``."""
+        return self._commit(space, [Member(category, asset, variant, model, 0.0, 0.0, 0)], x, y, q,
+                            rect[None, :], front[None, :], False)[0]
+
+    def remove_last(self, space: RoomSpace, n: int = 1) -> None:
+        """Take back the last ``n`` pieces of ``space`` (the last ones placed)."""
+        self._rollback(space, n)
+
+    def room_ok(self, space: RoomSpace) -> bool:
+        """Whether the agent still walks between the room's doors and reaches every piece."""
+        return self._room_ok(space)
+
     def _member_rects(self, members: list[Member], xs, ys, qs):
         c = len(xs)
         rects = np.zeros((c, len(members), 4))

@@ -374,6 +374,24 @@ def place_spawns(nav: NavGrid, component: int, rng: np.random.Generator, *, user
     return SpawnSampler(nav, component).draw(rng, user=user, min_distance=min_distance)
 
 
+def scene_rooms(fp: FloorPlan, rng: np.random.Generator) -> list[Room]:
+    """The scene's rooms of a floor plan (names, floor and wall surfaces)."""
+    return _scene_rooms(fp, rng)
+
+
+def scene_objects(fp: FloorPlan, pieces: list[Placed],
+                  small: list[SmallPlaced]) -> tuple[list[ObjectInstance], list[ObjectInstance], dict[int, int]]:
+    """The furniture as scene objects, all objects (furniture, then small objects), and
+    each piece's object id."""
+    furniture = _furniture(fp, pieces)
+    return furniture[0], _objects(fp, pieces, furniture, small), furniture[1]
+
+
+def main_component(nav: NavGrid, fp: FloorPlan, spaces) -> int:
+    """The walkable component that links the doors."""
+    return _main_component(nav, fp, spaces)
+
+
 def attempt_house(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
                   rng: np.random.Generator) -> Scene:
     """One try at a house; raises :class:`AttemptFailed` (or returns a scene to check)."""

@@ -1,0 +1,697 @@
+"""Scene plans and their solver: a versioned JSON description of a house (what an LLM
+writes, or a person) and a deterministic search that builds a validated scene from it.
+
+A plan (:class:`ScenePlan`, ``version`` :data:`PLAN_VERSION`) lists rooms (type, rough
+size in m^2, objects), the pairs of rooms that must share a door, and per room the objects
+(an asset category or any name for one, a count, ``on``: the object it stands on) with
+relations to other objects of the room: ``near``, ``far``, ``against_wall``, ``middle``,
+``facing``, ``in_front_of``, ``left_of``, ``right_of`` (``on`` is "on top of").
+
+:func:`solve_plan` builds the house with the generator's parts: a floor plan grown on the
+grid with the rooms' sizes (the plan whose requested doors can be made is kept), doors
+(a spanning tree, then the requested pairs), windows, then per room a depth-first search
+over candidate poses (wall, corner and free-floor poses, and poses around each relation's
+target), best soft score first (one point per relation met, partial credit by distance),
+under hard constraints (inside the room, no overlap, door squares and front zones clear,
+the room walkable between its doors with every piece in reach). Surface furniture (a tv)
+and small objects go on the receptacles of what they are ``on`` (else on any surface of the
+room). The finished scene passes :func:`~legent_gym.world.generation.validate.check_house`.
+
+Nothing is silently ignored: a name that is no asset category is mapped to the nearest
+one (``SolveReport.mapped``) or dropped (``SolveReport.warnings``); an object that fits
+nowhere, a door that cannot be made and every relation not met in the result are listed in
+``SolveReport.unmet`` with what was measured.
+"""
+
+from __future__ import annotations
+
+import difflib
+import time
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
+
+from legent_gym.world.generation.conditions import Catalog, GenerationError, normalise_name
+from legent_gym.world.generation.floorplan import (
+    FloorPlan,
+    PlanFailed,
+    add_door,
+    build_floorplan,
+    place_doors,
+    place_windows,
+    plan_grid,
+)
+from legent_gym.world.generation.furnish import SUPPORTS, Furnisher, RoomSpace
+from legent_gym.world.generation.house import (
+    REACH,
+    AttemptFailed,
+    main_component,
+    place_spawns,
+    scene_objects,
+    scene_rooms,
+)
+from legent_gym.world.generation.roomtypes import ROOM_TYPES, ROOM_WORDS, room_type_of
+from legent_gym.world.generation.small_objects import SmallObjectPlacer, receptacle_corners
+from legent_gym.world.generation.surfaces_and_lights import ceiling_light, light_point
+from legent_gym.world.generation.validate import check_house
+from legent_gym.world.navigation import DEFAULT_AGENT_RADIUS, DEFAULT_RESOLUTION, NavGrid
+from legent_gym.world.scene import Scene, Spawn
+
+PLAN_VERSION = 1
+RelationKind = Literal["near", "far", "against_wall", "middle", "facing", "in_front_of", "left_of", "right_of"]
+#: Relations that name another object of the room.
+TARGETED = frozenset({"near", "far", "facing", "in_front_of", "left_of", "right_of"})
+
+#: Thresholds of the relations, as measured in the result (metres, degrees).
+NEAR_GAP = 1.0  #: near: the footprints at most this far apart
+FAR_DISTANCE = 2.5  #: far: the centres at least this far apart
+WALL_CONTACT = 0.1  #: against_wall: the footprint at most this far from a wall face
+MIDDLE_CLEARANCE = 0.5  #: middle: the footprint at least this far from every wall face
+FACING_ANGLE = 30.0  #: facing: the front within this angle of the direction to the target
+FRONT_ANGLE = 35.0  #: in_front_of: within this angle of the target's front direction...
+SIDE_ANGLE = 50.0  #: left_of / right_of: within this angle of the target's left / right...
+BESIDE_GAP = 1.5  #: ...and the footprints at most this far apart
+
+CELL_AREA = 2.3 * 2.3  # m^2 per floor-plan cell (the middle of the generator's cell sizes)
+CELL_RANGE = (2.0, 2.6)
+WALL_HEIGHT = 3.0
+DFS_BRANCH = 3  # candidates tried per object before backtracking
+DFS_BUDGET = 60  # commits per room before the search turns greedy
+ATTEMPTS = 6  # tries at a valid house
+BUILT_ATTEMPTS = 3  # valid houses built before the one that lacks the fewest planned things is kept
+
+
+class Relation(BaseModel):
+    """One soft relation of an object: ``kind``, and ``target`` (another object's name in
+    the same room) for the kinds that relate two objects."""
+
+    model_config = ConfigDict(extra="forbid")
+    kind: RelationKind
+    target: str | None = None
+
+    @model_validator(mode="after")
+    def _target(self) -> Relation:
+        if self.kind in TARGETED and not self.target:
+            raise ValueError(f"relation {self.kind!r} needs a target")
+        if self.kind not in TARGETED and self.target:
+            raise ValueError(f"relation {self.kind!r} takes no target")
+        return self
+
+
+class PlannedObject(BaseModel):
+    """Objects of one kind in a room: ``name`` (unique in the room; what relations and
+    ``on`` refer to), ``asset`` (a library category or a name for one; default: ``name``),
+    ``count``, ``on`` (the object it stands on) and ``relations``."""
+
+    model_config = ConfigDict(extra="forbid")
+    name: str = Field(min_length=1, max_length=60)
+    asset: str | None = Field(default=None, max_length=60)
+    count: int = Field(default=1, ge=1, le=12)
+    on: str | None = None
+    relations: list[Relation] = Field(default_factory=list, max_length=8)
+
+
+class PlannedRoom(BaseModel):
+    """A room: ``name`` (unique in the plan), ``type`` (bedroom, living room, kitchen,
+    bathroom, dining room, office, hallway, or a word for one), rough ``size`` in m^2."""
+
+    model_config = ConfigDict(extra="forbid")
+    name: str = Field(min_length=1, max_length=60)
+    type: str = Field(min_length=1, max_length=40)
+    size: float | None = Field(default=None, ge=3.0, le=60.0)
+    objects: list[PlannedObject] = Field(default_factory=list, max_length=40)
+
+    @model_validator(mode="after")
+    def _names(self) -> PlannedRoom:
+        names = [o.name for o in self.objects]
+        dupes = sorted({n for n in names if names.count(n) > 1})
+        if dupes:
+            raise ValueError(f"object names repeat in room {self.name!r}: {', '.join(dupes)}")
+        for o in self.objects:
+            refs = [r.target for r in o.relations if r.target] + ([o.on] if o.on else [])
+            for ref in refs:
+                if ref not in names:
+                    raise ValueError(f"object {o.name!r} in room {self.name!r} refers to {ref!r}, which the room "
+                                     f"does not list (objects: {', '.join(names)})")
+                if ref == o.name:
+                    raise ValueError(f"object {o.name!r} in room {self.name!r} refers to itself")
+        return self
+
+
+class ScenePlan(BaseModel):
+    """A house plan (see the module docstring and docs/llm.md)."""
+
+    model_config = ConfigDict(extra="forbid")
+    version: Literal[1] = 1
+    name: str | None = Field(default=None, max_length=80)
+    rooms: list[PlannedRoom] = Field(min_length=1, max_length=8)
+    doors: list[tuple[str, str]] = Field(default_factory=list, max_length=28)
+
+    @field_validator("rooms")
+    @classmethod
+    def _unique(cls, rooms: list[PlannedRoom]) -> list[PlannedRoom]:
+        names = [r.name for r in rooms]
+        dupes = sorted({n for n in names if names.count(n) > 1})
+        if dupes:
+            raise ValueError(f"room names repeat: {', '.join(dupes)}")
+        return rooms
+
+    @model_validator(mode="after")
+    def _doors(self) -> ScenePlan:
+        names = {r.name for r in self.rooms}
+        for a, b in self.doors:
+            for n in (a, b):
+                if n not in names:
+                    raise ValueError(f"door between {a!r} and {b!r}: no room {n!r} (rooms: {', '.join(sorted(names))})")
+            if a == b:
+                raise ValueError(f"door between {a!r} and itself")
+        return self
+
+
+@dataclass
+class SolveReport:
+    """What the solver did with a plan besides building it."""
+
+    #: plan name -> library category it was mapped to (names that are no category).
+    mapped: dict[str, str] = field(default_factory=dict)
+    #: Dropped names and other changes to the plan.
+    warnings: list[str] = field(default_factory=list)
+    #: Everything asked for that the result lacks: objects, doors, relations (measured).
+    unmet: list[str] = field(default_factory=list)
+    #: "room/object" -> scene object ids of its instances.
+    objects: dict[str, list[int]] = field(default_factory=dict)
+    seconds: float = 0.0
+
+    def lines(self) -> list[str]:
+        out = [f"mapped {k!r} to the library category {v!r}" for k, v in self.mapped.items()]
+        out += [f"warning: {w}" for w in self.warnings]
+        out += [f"unmet: {u}" for u in self.unmet]
+        return out
+
+
+@dataclass
+class SolvedScene:
+    scene: Scene
+    report: SolveReport
+
+
+def load_plan(data: Any) -> ScenePlan:
+    """A :class:`ScenePlan` from a dict (or a plan); ``pydantic.ValidationError`` if invalid."""
+    return data if isinstance(data, ScenePlan) else ScenePlan.model_validate(data)
+
+
+# ---------------------------------------------------------------------------------------
+# Names
+
+
+def resolve_room_type(word: str) -> tuple[str, bool]:
+    """The room type a word names, and whether it was a guess (the nearest word)."""
+    exact = room_type_of(word)
+    if exact is not None:
+        return exact, False
+    w = " ".join(word.lower().replace("_", " ").replace("-", " ").split())
+    for part in reversed(w.split()):
+        t = room_type_of(part)
+        if t is not None:
+            return t, True
+    close = difflib.get_close_matches(w, list(ROOM_WORDS), n=1, cutoff=0.6)
+    return (ROOM_WORDS[close[0]] if close else "living_room"), True
+
+
+def nearest_category(catalog: Catalog, name: str) -> tuple[str | None, bool]:
+    """The library category a name refers to and whether it was a guess: the name itself,
+    else its words from the last (the head noun: "king size bed" -> bed), else the closest
+    spelling of a known name; (None, True) when nothing is close."""
+    try:
+        return catalog.resolve_one(name), False
+    except GenerationError:
+        pass
+    words = normalise_name(name).split()
+    for k in range(len(words) - 1, -1, -1):
+        for phrase in (" ".join(words[k:]), words[k]):
+            try:
+                return catalog.resolve_one(phrase), True
+            except GenerationError:
+                continue
+    close = difflib.get_close_matches(normalise_name(name), sorted(catalog.aliases), n=1, cutoff=0.75)
+    if close:
+        return catalog.aliases[close[0]][0], True
+    return None, True
+
+
+# ---------------------------------------------------------------------------------------
+# Relations: measured on footprints (x0, y0, x1, y1), yaws and the room's inner outline
+
+
+def front_dirs(yaw_deg: np.ndarray) -> np.ndarray:
+    """Unit front directions (N, 2) of yaws in degrees (a model's front is +y)."""
+    a = np.radians(np.asarray(yaw_deg, dtype=np.float64))
+    return np.column_stack([-np.sin(a), np.cos(a)])
+
+
+def rect_gap(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance between rectangles ``a`` (N, 4) and one rectangle ``b`` (0 where they touch)."""
+    gx = np.maximum(np.maximum(b[0] - a[:, 2], a[:, 0] - b[2]), 0.0)
+    gy = np.maximum(np.maximum(b[1] - a[:, 3], a[:, 1] - b[3]), 0.0)
+    return np.hypot(gx, gy)
+
+
+def wall_gap(rects: np.ndarray, inner: np.ndarray) -> np.ndarray:
+    """Distance from each rectangle (N, 4) to the nearest wall face of a rectilinear room
+    outline ``inner`` (the rectangles inside it)."""
+    out = np.full(len(rects), np.inf)
+    n = len(inner)
+    for k in range(n):
+        p0, p1 = inner[k], inner[(k + 1) % n]
+        seg = np.array([min(p0[0], p1[0]), min(p0[1], p1[1]), max(p0[0], p1[0]), max(p0[1], p1[1])])
+        out = np.minimum(out, rect_gap(rects, seg))
+    return out
+
+
+def _angle(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Angle in degrees between rows of u and v (v need not be unit; 0 length: 180)."""
+    norm = np.hypot(v[:, 0], v[:, 1])
+    cos = (u * v).sum(axis=1) / np.where(norm > 1e-9, norm, 1.0)
+    return np.where(norm > 1e-9, np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))), 180.0)
+
+
+def relation_scores(kind: str, rects: np.ndarray, yaws: np.ndarray, inner: np.ndarray,
+                    target: tuple[np.ndarray, float] | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """For candidate footprints (N, 4) and yaws (N,): (holds, score in [0, 1], measure)
+    of one relation. ``target``: the target's footprint and yaw for targeted kinds."""
+    centres = np.column_stack([(rects[:, 0] + rects[:, 2]) / 2, (rects[:, 1] + rects[:, 3]) / 2])
+    if kind == "against_wall":
+        g = wall_gap(rects, inner)
+        return g <= WALL_CONTACT, np.clip(1.0 - (g - WALL_CONTACT), 0.0, 1.0), g
+    if kind == "middle":
+        g = wall_gap(rects, inner)
+        return g >= MIDDLE_CLEARANCE, np.clip(g / MIDDLE_CLEARANCE, 0.0, 1.0), g
+    assert target is not None
+    trect, tyaw = target
+    tc = np.array([(trect[0] + trect[2]) / 2, (trect[1] + trect[3]) / 2])
+    gap = rect_gap(rects, trect)
+    if kind == "near":
+        return gap <= NEAR_GAP, np.clip(1.0 - (gap - NEAR_GAP) / 2.0, 0.0, 1.0), gap
+    if kind == "far":
+        d = np.hypot(centres[:, 0] - tc[0], centres[:, 1] - tc[1])
+        return d >= FAR_DISTANCE, np.clip(d / FAR_DISTANCE, 0.0, 1.0), d
+    if kind == "facing":
+        ang = _angle(front_dirs(yaws), tc[None, :] - centres)
+        return ang <= FACING_ANGLE, np.clip(1.0 - (ang - FACING_ANGLE) / 90.0, 0.0, 1.0), ang
+    turn = {"in_front_of": 0.0, "left_of": 90.0, "right_of": -90.0}[kind]
+    limit = FRONT_ANGLE if kind == "in_front_of" else SIDE_ANGLE
+    direction = np.repeat(front_dirs(np.array([tyaw + turn])), len(rects), axis=0)
+    ang = _angle(direction, centres - tc[None, :])
+    holds = (ang <= limit) & (gap <= BESIDE_GAP)
+    score = np.clip(1.0 - (ang - limit) / 90.0, 0.0, 1.0) * np.clip(1.0 - (gap - BESIDE_GAP) / 2.0, 0.0, 1.0)
+    return holds, score, ang
+
+
+def _measure_text(kind: str, value: float) -> str:
+    if kind in ("facing", "in_front_of", "left_of", "right_of"):
+        return f"{value:.0f} deg"
+    return f"{value:.2f} m"
+
+
+# ---------------------------------------------------------------------------------------
+# The solver
+
+
+@dataclass
+class _Item:
+    """One instance of a planned object."""
+
+    room: int
+    key: str  # "room/object"
+    name: str
+    index: int
+    category: str
+    on: str | None
+    relations: list[Relation]
+    piece: int | None = None  # index in the furnisher's pieces
+    small: int | None = None  # index in the small placer's list
+
+
+def _needs(item: _Item) -> set[str]:
+    return {r.target for r in item.relations if r.target} | ({item.on} if item.on else set())
+
+
+def _order(items: list[_Item]) -> list[_Item]:
+    """Targets before the objects that refer to them (stable; cycles keep plan order)."""
+    out: list[_Item] = []
+    placed: set[str] = set()
+    pending = list(items)
+    while pending:
+        names = {i.name for i in pending}
+        ready = [i for i in pending if not (_needs(i) & names - {i.name}) or _needs(i) <= placed]
+        if not ready:
+            ready = [pending[0]]
+        for i in ready:
+            out.append(i)
+            pending.remove(i)
+        placed |= {i.name for i in ready if i.name not in {p.name for p in pending}}
+    return out
+
+
+class _Solver:
+    def __init__(self, plan: ScenePlan, seed: int, catalog: Catalog, report: SolveReport):
+        self.plan, self.seed, self.catalog, self.report = plan, seed, catalog, report
+        self.types: list[str] = []
+        for room in plan.rooms:
+            rtype, guessed = resolve_room_type(room.type)
+            if guessed:
+                report.warnings.append(f"room {room.name!r}: type {room.type!r} is not known; built as a "
+                                       f"{ROOM_TYPES[rtype].name}")
+            self.types.append(rtype)
+        self.items: list[list[_Item]] = []
+        dropped: set[str] = set()
+        for r, room in enumerate(plan.rooms):
+            items = []
+            for obj in room.objects:
+                wanted = obj.asset or obj.name
+                cat, guessed = nearest_category(catalog, wanted)
+                key = f"{room.name}/{obj.name}"
+                if cat is None:
+                    report.warnings.append(f"dropped {key}: {wanted!r} is no asset category and none is close "
+                                           f"(known: {', '.join(catalog.categories)})")
+                    dropped.add(key)
+                    continue
+                if guessed:
+                    report.mapped[wanted] = cat
+                items += [_Item(r, key, obj.name, k, cat, obj.on, list(obj.relations)) for k in range(obj.count)]
+            self.items.append(items)
+        for items in self.items:  # relations to dropped objects cannot be met
+            for item in items:
+                room_name = plan.rooms[item.room].name
+                if item.on and f"{room_name}/{item.on}" in dropped:
+                    report.warnings.append(f"{item.key}: stands on {item.on!r}, which was dropped; placed on "
+                                           "any surface")
+                    item.on = None
+                keep = [rel for rel in item.relations if f"{room_name}/{rel.target}" not in dropped]
+                for rel in item.relations:
+                    if rel not in keep:
+                        report.unmet.append(f"{item.key} {rel.kind} {rel.target}: the target was dropped")
+                item.relations = keep
+
+    # -- floor plan ------------------------------------------------------------------
+    def floor_plan(self, rng: np.random.Generator) -> tuple[FloorPlan, list[str], Furnisher]:
+        targets = []
+        for room, rtype in zip(self.plan.rooms, self.types):
+            lo, hi = ROOM_TYPES[rtype].cells
+            if room.size is None:
+                targets.append(int(rng.integers(lo, hi + 1)))
+            else:
+                targets.append(int(min(8, max(1, round(room.size / CELL_AREA)))))
+        index = {r.name: k for k, r in enumerate(self.plan.rooms)}
+        wanted = [(index[a], index[b]) for a, b in self.plan.doors]
+        best: tuple[FloorPlan, list[str], Furnisher] | None = None
+        for _ in range(8):
+            try:
+                grid = plan_grid(self.types, rng, cell_range=CELL_RANGE, targets=targets)
+                fp = build_floorplan(grid, self.types, wall_height=WALL_HEIGHT)
+                place_doors(fp, rng, openness=1.0)
+            except PlanFailed:
+                continue
+            missing: list[str] = []
+            ids = fp.room_ids
+            for a, b in wanted:
+                linked = any(set(d.connects) == {ids[a], ids[b]} for d in fp.doors)
+                if linked:
+                    continue
+                if (min(a, b), max(a, b)) not in fp.adjacency():
+                    missing.append(f"door between {self.plan.rooms[a].name!r} and {self.plan.rooms[b].name!r}: "
+                                   "the rooms are not adjacent in the floor plan")
+                elif not add_door(fp, (a, b), rng):
+                    missing.append(f"door between {self.plan.rooms[a].name!r} and {self.plan.rooms[b].name!r}: "
+                                   "no room for a door on their shared wall")
+            place_windows(fp, rng)
+            f = Furnisher(fp, self.catalog, rng)
+            if not all(f.room_ok(space) for space in f.spaces):  # a door's mouth is cut off
+                continue
+            if best is None or len(missing) < len(best[1]):
+                best = (fp, missing, f)
+            if not missing:
+                break
+        if best is None:
+            raise _AttemptFailed(f"no floor plan for rooms {self.types} with every room walkable between its doors")
+        return best
+
+    # -- furniture -------------------------------------------------------------------
+    def candidates(self, f: Furnisher, space: RoomSpace, item: _Item, model: Any,
+                   rng: np.random.Generator) -> np.ndarray:
+        poses = [f.anchor_poses(space, model)]
+        if any(r.kind == "middle" for r in item.relations) and model.placement != "middle":
+            bb = space.bbox
+            n = 24
+            poses.append(np.column_stack([rng.uniform(bb[0], bb[2], n), rng.uniform(bb[1], bb[3], n),
+                                          rng.integers(0, 4, n), np.zeros(n)]))
+        for target in self.targets_of(f, item):
+            t = f.pieces[target].rect
+            cx, cy = (t[0] + t[2]) / 2, (t[1] + t[3]) / 2
+            half = max(model.size[0], model.size[1]) / 2
+            out = []
+            for gap in (0.2, 0.6):
+                for dx, dy in ((0, 1), (0, -1), (1, 0), (-1, 0)):
+                    for lateral in (-0.3, 0.0, 0.3):
+                        x = cx + dx * ((t[2] - t[0]) / 2 + gap + half) + dy * lateral * (t[2] - t[0])
+                        y = cy + dy * ((t[3] - t[1]) / 2 + gap + half) + dx * lateral * (t[3] - t[1])
+                        out += [(x, y, q, 0.0) for q in range(4)]
+            poses.append(np.asarray(out, dtype=np.float64))
+        return np.concatenate(poses) if poses else np.zeros((0, 4))
+
+    def targets_of(self, f: Furnisher, item: _Item) -> list[int]:
+        names = {r.target for r in item.relations if r.target}
+        return [i.piece for i in self.items[item.room] if i.name in names and i.piece is not None
+                and f.pieces[i.piece].on_floor]
+
+    def scores(self, f: Furnisher, space: RoomSpace, item: _Item, rects: np.ndarray, qs: np.ndarray) -> np.ndarray:
+        total = np.zeros(len(rects))
+        yaws = qs * 90.0
+        for rel in item.relations:
+            if rel.kind in TARGETED:
+                targets = [i for i in self.items[item.room] if i.name == rel.target and i.piece is not None]
+                if not targets:
+                    continue
+                best = np.zeros(len(rects))
+                for t in targets:
+                    p = f.pieces[t.piece]  # type: ignore[index]
+                    best = np.maximum(best, relation_scores(rel.kind, rects, yaws, space.inner,
+                                                            (p.rect, p.yaw_deg))[1])
+                total += best
+            else:
+                total += relation_scores(rel.kind, rects, yaws, space.inner, None)[1]
+        return total
+
+    def furnish_room(self, f: Furnisher, space: RoomSpace, rng: np.random.Generator) -> None:
+        floor = [i for i in _order(self.items[space.index]) if self.is_floor(i.category)]
+        picks = [f.pick(i.category) for i in floor]
+        budget = [DFS_BUDGET]
+
+        def options(k: int) -> list[tuple[float, float, int, np.ndarray, np.ndarray]]:
+            item, (asset, variant, model) = floor[k], picks[k]
+            poses = self.candidates(f, space, item, model, rng)
+            if len(poses) == 0:
+                return []
+            xs, ys, qs = poses[:, 0], poses[:, 1], poses[:, 2].astype(np.int64)
+            rects, fronts = f.footprints(item.category, asset, variant, model, xs, ys, qs)
+            ok = f.valid(space, rects, fronts, np.array([model.size[2]]))
+            idx = np.nonzero(ok)[0]
+            if len(idx) == 0:
+                return []
+            score = self.scores(f, space, item, rects[idx, 0], qs[idx] % 4) + 0.05 * poses[idx, 3] / 10.0
+            score += 0.01 * rng.random(len(idx))
+            order = idx[np.argsort(-score, kind="stable")]
+            return [(float(xs[c]), float(ys[c]), int(qs[c]) % 4, rects[c, 0], fronts[c, 0]) for c in order]
+
+        def place(k: int, pose) -> bool:
+            item, (asset, variant, model) = floor[k], picks[k]
+            x, y, q, rect, front = pose
+            item.piece = f.add_piece(space, item.category, asset, variant, model, x, y, q, rect, front)
+            if f.room_ok(space):
+                return True
+            f.remove_last(space)
+            item.piece = None
+            return False
+
+        def dfs(k: int) -> bool:
+            if k == len(floor):
+                return True
+            tried = 0
+            for pose in options(k):
+                if tried >= DFS_BRANCH or budget[0] <= 0:
+                    break
+                budget[0] -= 1
+                if not place(k, pose):
+                    continue
+                tried += 1
+                if dfs(k + 1):
+                    return True
+                f.remove_last(space)
+                floor[k].piece = None
+            return False
+
+        if dfs(0):
+            return
+        # Greedy, dropping what fits nowhere (reported).
+        for k, item in enumerate(floor):
+            for pose in options(k)[:6]:
+                if place(k, pose):
+                    break
+            else:
+                self.report.unmet.append(f"{item.key}: no room for a {item.category} in room "
+                                         f"{self.plan.rooms[item.room].name!r} (copy {item.index + 1})")
+
+    def is_floor(self, category: str) -> bool:
+        return self.catalog.is_furniture(category) and self.catalog.describe(category).placement != "surface"
+
+    def surface_furniture(self, f: Furnisher) -> None:
+        for items in self.items:
+            for item in items:
+                if self.catalog.is_small(item.category) or self.is_floor(item.category):
+                    continue
+                supports = self.support_pieces(f, item) or [
+                    i.piece for i in items if i.piece is not None and
+                    f.pieces[i.piece].category in SUPPORTS.get(item.category, ())]
+                for s in supports:
+                    if not any(p.support == s for p in f.pieces) and f.put_on_support(s, item.category):
+                        item.piece = len(f.pieces) - 1
+                        break
+                else:
+                    self.report.unmet.append(f"{item.key}: no free support for a {item.category}"
+                                             + (f" on {item.on!r}" if item.on else ""))
+
+    def support_pieces(self, f: Furnisher, item: _Item) -> list[int]:
+        if not item.on:
+            return []
+        return [i.piece for i in self.items[item.room] if i.name == item.on and i.piece is not None]
+
+    def small_objects(self, f: Furnisher, placer: SmallObjectPlacer) -> None:
+        for items in self.items:
+            for item in items:
+                if not self.catalog.is_small(item.category):
+                    continue
+                room_pieces = {i.piece for i in items if i.piece is not None}
+                wanted = set(self.support_pieces(f, item))
+                pools = ([[s for s in placer.surfaces if s.piece in wanted]] if wanted else []) + \
+                        [[s for s in placer.surfaces if s.piece in room_pieces]]
+                done = False
+                for pool in pools:
+                    for s in pool:
+                        if placer.put(s, item.category):
+                            item.small = len(placer.placed) - 1
+                            done = True
+                            break
+                    if done:
+                        break
+                if not done:
+                    self.report.unmet.append(f"{item.key}: no free reachable surface for a {item.category} in room "
+                                             f"{self.plan.rooms[item.room].name!r}")
+                elif wanted and placer.placed[item.small].support not in wanted:  # type: ignore[index]
+                    self.report.unmet.append(f"{item.key} on {item.on}: no room on it; put on another surface "
+                                             "of the room")
+
+    # -- one attempt ------------------------------------------------------------------
+    def attempt(self, rng: np.random.Generator) -> tuple[Scene, list[str]]:
+        for items in self.items:
+            for item in items:
+                item.piece = item.small = None
+        fp, missing, f = self.floor_plan(rng)
+        for space in f.spaces:
+            self.furnish_room(f, space, rng)
+        self.surface_furniture(f)
+        rooms = scene_rooms(fp, rng)
+        lights = [ceiling_light(light_point(p), WALL_HEIGHT) for p in fp.polygons]
+        base: dict[str, Any] = dict(name=self.plan.name or f"plan-{self.seed}", seed=self.seed, rooms=rooms,
+                                    walls=fp.walls, doors=fp.doors, windows=fp.windows, lights=lights)
+        furniture, _, _ = scene_objects(fp, f.pieces, [])
+        bare = Scene(**base, objects=furniture, agent=Spawn(position=(0.0, 0.0)))
+        nav = NavGrid.from_scene(bare, agent_radius=DEFAULT_AGENT_RADIUS, resolution=DEFAULT_RESOLUTION)
+        component = main_component(nav, fp, f.spaces)
+        placer = SmallObjectPlacer(f.pieces, self.catalog, rng, max_per_surface=4,
+                                   reachable=lambda p, rec: nav.can_reach(receptacle_corners(p, rec), REACH, component))
+        self.small_objects(f, placer)
+        try:
+            agent, user = place_spawns(nav, component, rng, user=True, min_distance=1.5)
+        except AttemptFailed as err:
+            raise _AttemptFailed(str(err)) from None
+        _, objects, ids = scene_objects(fp, f.pieces, placer.placed)
+        scene = Scene(**base, objects=objects, agent=agent, user=user)
+        problems = check_house(scene, nav, reach=REACH)
+        if problems:
+            raise _AttemptFailed("the house fails its checks: " + "; ".join(problems[:3]))
+        n_furniture = len(f.pieces)
+        self.report.objects = {}
+        for items in self.items:
+            for item in items:
+                if item.piece is not None:
+                    self.report.objects.setdefault(item.key, []).append(ids[item.piece])
+                elif item.small is not None:
+                    self.report.objects.setdefault(item.key, []).append(n_furniture + item.small)
+        return scene, missing + self.relations_unmet(f)
+
+    def relations_unmet(self, f: Furnisher) -> list[str]:
+        out = []
+        for items in self.items:
+            for item in items:
+                if item.piece is None or not f.pieces[item.piece].on_floor:
+                    continue
+                p = f.pieces[item.piece]
+                inner = f.spaces[p.room].inner
+                for rel in item.relations:
+                    targets = [f.pieces[i.piece] for i in items if i.name == rel.target and i.piece is not None]
+                    if rel.kind in TARGETED and not targets:
+                        out.append(f"{item.key} #{item.index + 1} {rel.kind} {rel.target}: the target was not placed")
+                        continue
+                    results = [relation_scores(rel.kind, p.rect[None, :], np.array([p.yaw_deg]), inner,
+                                               (t.rect, t.yaw_deg)) for t in targets] or \
+                        [relation_scores(rel.kind, p.rect[None, :], np.array([p.yaw_deg]), inner, None)]
+                    if not any(bool(r[0][0]) for r in results):
+                        best = min(float(r[2][0]) for r in results) if rel.kind != "middle" and rel.kind != "far" \
+                            else max(float(r[2][0]) for r in results)
+                        what = f"{rel.kind} {rel.target}" if rel.target else rel.kind
+                        out.append(f"{item.key} #{item.index + 1} {what}: measured {_measure_text(rel.kind, best)}")
+        return out
+
+
+class _AttemptFailed(Exception):
+    pass
+
+
+def solve_plan(plan: ScenePlan | dict, seed: int = 0, catalog: Catalog | None = None) -> SolvedScene:
+    """A validated scene for a plan (see the module docstring): the same plan and seed give
+    the same scene. Raises :class:`GenerationError` when no valid house comes out of
+    :data:`ATTEMPTS` tries (naming the last problem)."""
+    started = time.perf_counter()
+    plan = load_plan(plan)
+    catalog = catalog or Catalog.from_registry()
+    last = ""
+    master = np.random.default_rng(int(seed))
+    best: tuple[tuple[int, int], SolvedScene] | None = None
+    tries = 0
+    for _ in range(ATTEMPTS):
+        report = SolveReport()
+        solver = _Solver(plan, int(seed), catalog, report)
+        rng = master.spawn(1)[0]
+        try:
+            scene, unmet = solver.attempt(rng)
+        except _AttemptFailed as err:
+            last = str(err)
+            continue
+        report.unmet += unmet
+        tries += 1
+        # Houses that lack planned objects or doors are worse than ones that miss relations.
+        cost = (sum(" measured " not in u for u in report.unmet), len(report.unmet))
+        if best is None or cost < best[0]:
+            best = (cost, SolvedScene(scene, report))
+        if cost[0] == 0 or tries >= BUILT_ATTEMPTS:
+            break
+    if best is None:
+        raise GenerationError(f"no valid house for the plan in {ATTEMPTS} attempts (last: {last})")
+    best[1].report.seconds = time.perf_counter() - started
+    return best[1]
+
+
+__all__ = ["FAR_DISTANCE", "NEAR_GAP", "PLAN_VERSION", "PlannedObject", "PlannedRoom", "Relation", "ScenePlan",
+           "SolveReport", "SolvedScene", "load_plan", "nearest_category", "relation_scores", "solve_plan"]
