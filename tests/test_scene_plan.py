@@ -150,7 +150,7 @@ def test_example_plans_relations_hold_in_the_result(name, seed):
                 assert all(objs[i].on in supports for i in ids)
 
 
-@pytest.mark.parametrize("name", ["small_flat", "four_rooms", "office"])
+@pytest.mark.parametrize("name", ["small_flat", "four_rooms", "four_rooms_dense", "office"])
 def test_example_plans_report_exactly_what_is_unmet(name):
     plan = _plan(name)
     for seed in (1, 2):
@@ -175,15 +175,16 @@ def test_requested_doors_link_the_rooms():
 
 
 def test_four_room_plan_of_forty_objects_is_fast():
-    plan = _plan("four_rooms")
-    assert sum(o.get("count", 1) for r in plan["rooms"] for o in r["objects"]) >= 30
-    solve_plan(plan, 9, CATALOG)  # warm: the registry caches built asset models
+    plan = _plan("four_rooms_dense")
+    assert len(plan["rooms"]) == 4 and sum(o.get("count", 1) for r in plan["rooms"] for o in r["objects"]) == 37
+    solve_plan(plan, 99, CATALOG)  # warm: the registry caches built asset models
     times = []
     for seed in range(3):
         started = time.process_time()
         solved = solve_plan(plan, seed, CATALOG)
         times.append(time.process_time() - started)
-        assert len(solved.scene.objects) >= 28
+        assert len(solved.scene.objects) >= 36 and check_house(solved.scene) == []
+        check_solution(plan, solved)
     assert sorted(times)[1] <= 0.2, times  # the median, CPU seconds on one core
 
 

@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import time
 
+import gymnasium as gym
 import pytest
 
 from legent_gym.cli import main
@@ -61,6 +62,11 @@ def test_a_valid_plan_gives_a_scene_and_the_plan_beside_it(tmp_path, capsys):
     assert main(["generate", "--plan", str(tmp_path / "house.plan.json"), "--seed", "1", "--out",
                  str(tmp_path / "again.json")]) == 0
     assert (tmp_path / "again.json").read_text() == (tmp_path / "house.json").read_text()
+    # An env takes the scene.
+    env = gym.make("Legent/ComeHere-OneRoom-v0", scene=str(tmp_path / "house.json"), width=32, height=32)
+    obs, _ = env.reset(seed=0)
+    assert obs["rgb"].shape == (32, 32, 3) and obs["rgb"].std() > 1
+    env.close()
 
 
 @pytest.mark.parametrize("bad, error", [("I'd suggest a cosy flat!", "not JSON"),
