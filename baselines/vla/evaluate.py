@@ -9,8 +9,8 @@ depend on the number of workers::
     python -m baselines.vla.evaluate --policy runs/vla/come1/model.pt \\
         --env Legent/ComeHere-OneRoom-v0 --episodes 100 --seed 0 --workers 2
 
-``--policy`` is a checkpoint, ``random`` or ``expert`` (the task expert, privileged); in
-:func:`evaluate_many`, also ``vlm:PATH``, a fine-tuned Hugging Face VLM (:mod:`baselines.vlm`).
+``--policy`` is a checkpoint, ``random``, ``expert`` (the task expert, privileged) or
+``vlm:PATH``, a fine-tuned Hugging Face VLM folder (:mod:`baselines.vlm`).
 ``--env-kwargs`` passes further ``gym.make`` arguments as JSON, e.g. LEGENT's Where Is
 questions: ``--env-kwargs '{"task_options": {"objects": ["orange"], "receptacles": ["sofa"]}}'``.
 """
@@ -121,7 +121,7 @@ def success_rate(results: Sequence[EpisodeResult]) -> float:
 
 def main(argv: Sequence[str] | None = None) -> int:
     p = argparse.ArgumentParser(description="Success rate of a VLA checkpoint, 'random' or 'expert'.")
-    p.add_argument("--policy", required=True, help="a checkpoint (model.pt), 'random' or 'expert'")
+    p.add_argument("--policy", required=True, help="a checkpoint (model.pt), 'random', 'expert' or vlm:PATH")
     p.add_argument("--env", action="append", required=True, help="environment id; repeat for several")
     p.add_argument("--episodes", type=int, default=100)
     p.add_argument("--seed", type=int, default=0, help="episode i resets with seed + i")
@@ -132,13 +132,17 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = p.parse_args(argv)
     try:
         spec = check_policy(args.policy)
-        if spec in (RANDOM, EXPERT):
+        if spec in (RANDOM, EXPERT) or spec.startswith(VLM):
             size = args.image_size
         else:
             from baselines.vla.checkpoint import read_checkpoint
 
             size = read_checkpoint(spec)["config"]["image_size"]
         env_kwargs = {"width": size, "height": size} if size else {}
+        if spec.startswith(VLM) and not size:  # the view size the model was trained on
+            from baselines.vlm.policy import view_size
+
+            env_kwargs = view_size(spec)
         env_kwargs.update(parse_env_kwargs(args.env_kwargs))
         all_results = evaluate_many([(spec, e) for e in args.env], args.episodes, args.seed, env_kwargs,
                                     args.workers)

@@ -7,7 +7,9 @@ episodes' steps in one ``generate`` call (left-padded), and :func:`run_episodes`
 chunk of episodes in lockstep on it. Replies go through the LLM agent's parser
 (:func:`baselines.llm_agent.extract_action`); a reply with no valid action code becomes
 :data:`baselines.llm_agent.NOOP_ACTION` (``rotate_right(0)``: a valid step that changes
-nothing) and the reason is kept in ``policy.fallbacks``.
+nothing) and the reason is kept in ``policy.fallbacks``. Unlike the LLM agent it does not
+ask again with the parse error: the model was trained on the training prompt alone, and
+greedy decoding of that prompt gives the same reply every time.
 
 ``baselines/evaluate.py --policy vlm:PATH`` and ``reproduce_table.py --model vlm:PATH``
 evaluate through :func:`run_chunk`.

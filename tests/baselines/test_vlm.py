@@ -16,6 +16,7 @@ pytest.importorskip("peft", reason="install the 'vlm' extra: pip install -e '.[v
 from baselines.evaluate import main as evaluate_main  # noqa: E402
 from baselines.evaluate import run_episodes as run_episodes_one  # noqa: E402
 from baselines.vla.dataset import DatasetError, read_trajectories  # noqa: E402
+from baselines.vla.evaluate import main as vla_evaluate_main  # noqa: E402
 from baselines.vlm.data import IGNORE, Encoder, read_samples  # noqa: E402
 from baselines.vlm.model import ModelError, load_model, load_processor  # noqa: E402
 from baselines.vlm.policy import VLMPolicy, run_episodes  # noqa: E402
@@ -96,6 +97,9 @@ def test_finetuned_model_reproduces_its_data_and_succeeds_in_the_env(setup, over
     assert [e["success"] for e in episodes] == [True] * 4
     assert [e["steps"] for e in episodes] == [len(t.actions) for t in trajectories]
     assert "success 1.000 over 4 episodes" in lines[-1]
+    # The VLA's evaluator takes the same spec (and the model's view size from the folder).
+    assert vla_evaluate_main(["--policy", f"vlm:{final}", "--env", ENV, "--episodes", "2"]) == 0
+    assert "success 1.000 over 2 episodes" in capsys.readouterr().out
     # Batched decoding (4 episodes in lockstep) gives what one episode at a time gives.
     env_kwargs = {"width": SIZE, "height": SIZE}
     assert run_episodes(policy, ENV, 3, 100, env_kwargs, batch=3) == run_episodes_one(policy, ENV, 3, 100, env_kwargs)
