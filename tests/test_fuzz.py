@@ -206,6 +206,26 @@ def _wrong_glb_length(data: bytes, field: int, value: int) -> bytes:
     return _overwrite(data, offsets[field % len(offsets)], struct.pack("<I", value))
 
 
+def _wrong_json_value(data: bytes, which: int, value) -> bytes:
+    """Any one value of the glTF JSON (the JSON chunk of a GLB) replaced, e.g. by a wrong type."""
+    glb = data[:4] == b"glTF"
+    text = data[20:20 + struct.unpack_from("<I", data, 12)[0]] if glb else data
+    doc = json.loads(text)
+    paths = list(_paths(doc))
+    parent = doc
+    path = paths[which % len(paths)]
+    for key in path[:-1]:
+        parent = parent[key]
+    parent[path[-1]] = value
+    new = json.dumps(doc).encode()
+    if not glb:
+        return new
+    new += b" " * (-len(new) % 4)
+    rest = data[20 + len(text):]
+    body = struct.pack("<II", len(new), 0x4E4F534A) + new + rest
+    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+
+
 U32 = st.integers(min_value=0, max_value=2**32 - 1)
 GLTF_CASES = st.one_of(
     st.tuples(st.just("truncate"), st.integers(min_value=0, max_value=2**20)),
@@ -214,6 +234,7 @@ GLTF_CASES = st.one_of(
     st.tuples(st.just("overwrite"), st.tuples(st.integers(min_value=0), st.binary(min_size=1, max_size=16))),
     st.tuples(st.just("wrong length"), st.tuples(st.integers(min_value=0), st.one_of(
         U32, st.sampled_from([0, 1, 3, 4, 2**31 - 1, 2**32 - 1]), st.integers(min_value=-(2**40), max_value=-1)))),
+    st.tuples(st.just("wrong JSON value"), st.tuples(st.integers(min_value=0), VALUES)),
 )
 _names = itertools.count()
 
@@ -235,6 +256,8 @@ def _corrupt(name: str, case) -> bytes:
     if kind == "overwrite":
         return _overwrite(data, *arg)
     which, value = arg
+    if kind == "wrong JSON value":
+        return _wrong_json_value(data, which, value)
     if name.endswith(".glb"):
         return _wrong_glb_length(data, which, value % 2**32)
     return _wrong_json_length(data, which, value)
@@ -276,6 +299,39 @@ test_corrupt_gltf = _gltf_property(settings(DEFAULT, suppress_health_check=[
     *DEFAULT.suppress_health_check, HealthCheck.function_scoped_fixture]))
 test_corrupt_gltf_slow = pytest.mark.slow(_gltf_property(settings(SLOW, suppress_health_check=[
     *SLOW.suppress_health_check, HealthCheck.function_scoped_fixture])))
+
+
+# Inputs the property found that once escaped as other exceptions, kept as fixed cases.
+FOUND_GLTF = {
+    "POSITION names the index accessor (false == 0)": (
+        "Box.gltf", ("meshes", 0, "primitives", 0, "attributes", "POSITION"), False, "wrong shape"),
+    "a node matrix entry is null": ("OrientationTest.gltf", ("nodes", 1, "matrix", 11), None, "node"),
+    "a material name that is not a string": ("Box.gltf", ("materials", 0, "name"), 7, None),
+    "a primitive mode that is an object": ("Box.gltf", ("meshes", 0, "primitives", 0, "mode"), {}, None),
+    "a buffer file name too long for the system": ("Box.gltf", ("buffers", 0, "uri"), "a" * 300 + ".bin",
+                                                   "cannot be resolved"),
+}
+
+
+@pytest.mark.parametrize("case", FOUND_GLTF)
+def test_found_gltf_inputs(gltf_dir, case):
+    name, where, value, fragment = FOUND_GLTF[case]
+    doc = json.loads(SAMPLES[name])
+    parent = doc
+    for key in where[:-1]:
+        parent = parent[key]
+    parent[where[-1]] = value
+    path = gltf_dir / f"found_{next(_names)}_{name}"
+    path.write_text(json.dumps(doc))
+    clear_cache()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            load_gltf(path)
+        except AssetImportError as err:
+            assert fragment is None or fragment in str(err), str(err)
+        else:
+            assert fragment is None, "expected an AssetImportError"
 
 
 def test_samples_import_unbroken(gltf_dir):

@@ -432,7 +432,8 @@ def _check_counts(path: Path, document: dict) -> None:
     accessors = document.get("accessors") or []
     declared = primitives = 0
     for mesh in document.get("meshes") or []:
-        for prim in (mesh.get("primitives") or []) if isinstance(mesh, dict) else []:
+        prims = mesh.get("primitives") if isinstance(mesh, dict) else None
+        for prim in prims if isinstance(prims, list) else []:
             primitives += 1
             attributes = prim.get("attributes") if isinstance(prim, dict) else None
             index = attributes.get("POSITION") if isinstance(attributes, dict) else None
@@ -502,11 +503,12 @@ def _check_external_files(path: Path, document: dict) -> None:
                                        "files beside the asset are read")
             try:
                 target = (folder / name).resolve()
+                exists = target.exists()
             except (OSError, RuntimeError) as err:  # RuntimeError: a symbolic link loop
                 raise AssetImportError(f"{path}: {what} uri {uri[:80]!r} cannot be resolved: {err}") from err
             if not target.is_relative_to(folder):
                 raise AssetImportError(f"{path}: {what} refers to {uri[:80]!r}, outside the asset's folder")
-            if not target.exists():
+            if not exists:
                 if kind == "images":
                     continue  # a missing image is a warning (see _check_images)
                 raise AssetImportError(f"{path}: refers to a missing buffer file {uri!r}")
@@ -580,8 +582,16 @@ def _scene_parts(path: Path, scene, document: dict) -> list[Part]:
     parts: list[Part] = []
     images: dict[int, np.ndarray | None] = {}  # one array per image, shared by its users
     vertices = 0
-    for node in scene.graph.nodes_geometry:
-        matrix, geom_name = scene.graph[node]
+    try:
+        nodes = list(scene.graph.nodes_geometry)
+    except Exception as err:  # trimesh resolves the node graph lazily, and raises many types
+        raise AssetImportError(f"{path}: the node graph cannot be used: {type(err).__name__}: {err}") from err
+    for node in nodes:
+        try:
+            matrix, geom_name = scene.graph[node]
+        except Exception as err:  # e.g. a matrix that is not a rigid transform
+            raise AssetImportError(f"{path}: the transform of node {node!r} cannot be used: "
+                                   f"{type(err).__name__}: {err}") from err
         mesh = scene.geometry.get(geom_name)
         if not isinstance(mesh, trimesh.Trimesh) or len(mesh.faces) == 0:
             continue  # points and lines have no surface to show or collide with
@@ -602,12 +612,17 @@ def _scene_parts(path: Path, scene, document: dict) -> list[Part]:
 def _describe_primitives(document: dict) -> str:
     """What the file holds instead of triangles, for the no-geometry error."""
     counts: dict[str, int] = {}
-    for mesh in document.get("meshes", []) or []:
-        for prim in mesh.get("primitives", []) or []:
-            mode = prim.get("mode", 4)
-            name = _MODE_NAMES.get(mode, f"mode {mode}")
-            if mode in _TRIANGLE_MODES:
+    meshes = document.get("meshes")
+    for mesh in meshes if isinstance(meshes, list) else []:
+        prims = mesh.get("primitives") if isinstance(mesh, dict) else None
+        for prim in prims if isinstance(prims, list) else []:
+            mode = prim.get("mode", 4) if isinstance(prim, dict) else None
+            if not isinstance(mode, int) or isinstance(mode, bool):
+                name = f"mode {str(mode)[:20]}"
+            elif mode in _TRIANGLE_MODES:
                 name = "empty triangles"
+            else:
+                name = _MODE_NAMES.get(mode, f"mode {mode}")
             counts[name] = counts.get(name, 0) + 1
     if not counts:
         return "the file has no meshes"
@@ -619,6 +634,10 @@ def _mesh_part(path: Path, mesh, name: str, images: dict[int, np.ndarray | None]
     """A Part (untransformed) from one trimesh primitive, with its colour or texture."""
     vertices = np.asarray(mesh.vertices, dtype=np.float64)
     faces = np.asarray(mesh.faces, dtype=np.int64)
+    if vertices.ndim != 2 or vertices.shape[1] != 3 or faces.ndim != 2 or faces.shape[1] != 3:
+        raise AssetImportError(f"{path}: mesh {name!r} has vertex positions or triangles of the wrong shape "
+                               f"(positions {vertices.shape}, triangles {faces.shape}; a POSITION accessor "
+                               "that is not VEC3?)")
     if not np.all(np.isfinite(vertices)):
         raise AssetImportError(f"{path}: mesh {name!r} has non-finite vertex coordinates (NaN or inf)")
     if faces.size and (faces.min() < 0 or faces.max() >= len(vertices)):
@@ -690,7 +709,7 @@ def _factor_rgba(pbr) -> np.ndarray:
 
 def _material_hint(name: str | None) -> str:
     """A Part.material style hint guessed from the glTF material name ("plain" if none)."""
-    lowered = (name or "").lower()
+    lowered = name.lower() if isinstance(name, str) else ""  # a corrupt file may give any type
     return next((hint for hint in MATERIAL_HINTS if hint in lowered), "plain")
 
 
@@ -843,7 +862,14 @@ def _is_flat(vertices: np.ndarray) -> bool:
     if len(vertices) < 4:
         return True
     centred = vertices - vertices.mean(axis=0)
-    singular = np.linalg.svd(centred.T @ centred, compute_uv=False)  # 3x3: cheap for any N
+    extent = float(np.abs(centred).max())
+    if not extent > 0:
+        return True
+    centred = centred / extent  # the test is scale-free; unscaled, huge coordinates overflow
+    try:
+        singular = np.linalg.svd(centred.T @ centred, compute_uv=False)  # 3x3: cheap for any N
+    except np.linalg.LinAlgError:
+        return True
     return bool(np.sqrt(singular[-1]) <= 1e-6 * np.sqrt(singular[0]))
 
 
