@@ -206,3 +206,28 @@ def test_two_processes(setup, tmp_path):
     assert [(r["processes"], r["steps"], r["finished"]) for r in reports] == [(2, 4, True)] * 2
     before, after = load_model(str(base)).state_dict(), load_model(str(tmp_path / "ddp" / FINAL)).state_dict()
     assert any(not torch.equal(before[k], after[k]) for k in before if "language_model" in k)
+
+
+def test_idefics3(setup, tmp_path):
+    """Another architecture through the same code: Idefics3 (SmolVLM's), whose processor
+    pads each batch's views into (batch, views, 3, H, W) and frames every view with its own
+    tokens. The reply alone is trained on; the model trains, reloads, and decodes the same
+    episodes batched as one at a time."""
+    root, _ = setup
+    base = build_tiny_model(tmp_path / "tiny", image_size=SIZE, architecture="idefics3")
+    processor = load_processor(str(base))
+    samples = read_samples([root / "data"])[:3]
+    batch = Encoder(processor).batch(samples)
+    assert tuple(batch["pixel_values"].shape) == (3, max(len(s.images) for s in samples), 3, SIZE, SIZE)
+    for row, sample in enumerate(samples):
+        trained = (batch["labels"][row] != IGNORE).nonzero().flatten()
+        assert processor.tokenizer.decode(batch["input_ids"][row][trained]) == sample.target + "<end_of_utterance>\n"
+    config = FinetuneConfig(str(base), (str(root / "data"),), str(tmp_path / "run"), epochs=12, batch_size=2,
+                            grad_accum=1, lr=5e-3, weight_decay=0.1, warmup=0.0, lora=False)
+    metrics = train(config, resume=False, show_progress=False)
+    assert metrics["finished"] and metrics["token_accuracy"] > 0.5
+    policy = VLMPolicy(tmp_path / "run" / FINAL, max_new_tokens=24)
+    env_kwargs = {"width": SIZE, "height": SIZE}
+    batched = run_episodes(policy, ENV, 2, 0, env_kwargs, batch=2)
+    assert batched == run_episodes_one(policy, ENV, 2, 0, env_kwargs)
+    assert len(policy.fallbacks) < policy.replies  # it writes action code
