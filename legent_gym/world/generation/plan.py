@@ -180,8 +180,8 @@ class SolveReport:
     warnings: list[str] = field(default_factory=list)
     #: Everything asked for that the result lacks: objects, doors, relations (measured).
     unmet: list[str] = field(default_factory=list)
-    #: "room/object" -> scene object ids of its instances.
-    objects: dict[str, list[int]] = field(default_factory=dict)
+    #: "room/object" -> the scene object id of each copy (None: that copy was not placed).
+    objects: dict[str, list[int | None]] = field(default_factory=dict)
     seconds: float = 0.0
 
     def lines(self) -> list[str]:
@@ -625,10 +625,13 @@ class _Solver:
         self.report.objects = {}
         for items in self.items:
             for item in items:
+                copies = self.report.objects.setdefault(item.key, [])
                 if item.piece is not None:
-                    self.report.objects.setdefault(item.key, []).append(ids[item.piece])
+                    copies.append(ids[item.piece])
                 elif item.small is not None:
-                    self.report.objects.setdefault(item.key, []).append(n_furniture + item.small)
+                    copies.append(n_furniture + item.small)
+                else:
+                    copies.append(None)
         return scene, missing + self.relations_unmet(f)
 
     def relations_unmet(self, f: Furnisher) -> list[str]:
