@@ -17,17 +17,15 @@ import numpy as np
 import pytest
 from PIL import Image
 
-pytest.importorskip("openai", reason="install the 'baselines' extra: pip install -e '.[baselines]'")
-
-from baselines.evaluate import run_episodes  # noqa: E402
-from baselines.llm_agent import (  # noqa: E402
+from baselines.evaluate import run_episodes
+from baselines.llm_agent import (
     NOOP_ACTION,
     EndpointError,
     LLMAgent,
     extract_action,
     main,
 )
-from legent_gym.agent.actions import ActionParseError  # noqa: E402
+from legent_gym.agent.actions import ActionParseError
 
 ENV_ID = "Legent/ComeHere-OneRoom-v0"
 
