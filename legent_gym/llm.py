@@ -269,14 +269,21 @@ def _retry_after(value: str | None) -> float | None:
 
 
 def parse_reply(text: str, model: type[M]) -> M:
-    """``text`` (JSON, perhaps in a code fence) validated by ``model``; ``ValueError`` if not."""
+    """``text`` (JSON, perhaps in a code fence or with words around one object) validated by
+    ``model``; ``ValueError`` if not."""
     body = _FENCE.sub("", text.strip()).strip()
     if not body:
         raise ValueError("the reply is empty")
     try:
         data = json.loads(body)
     except json.JSONDecodeError as err:
-        raise ValueError(f"the reply is not JSON: {err}") from None
+        start, end = body.find("{"), body.rfind("}")
+        try:  # a JSON object with words around it
+            data = json.loads(body[start:end + 1]) if 0 <= start < end else None
+        except json.JSONDecodeError:
+            data = None
+        if data is None:
+            raise ValueError(f"the reply is not JSON: {err}") from None
     return model.model_validate(data)
 
 

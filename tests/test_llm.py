@@ -41,6 +41,12 @@ def test_complete_model_validates_and_uses_json_mode():
     assert server.requests[0]["body"]["response_format"] == {"type": "json_object"}
 
 
+def test_words_around_the_json_object_are_tolerated():
+    with ReplayServer([("reply", 'Here is the plan: {"name": "pear", "count": 1} Enjoy!')]) as server:
+        assert _client(server).complete_model([{"role": "user", "content": "x"}], Pair)[0].name == "pear"
+    assert len(server.requests) == 1
+
+
 def test_a_server_without_json_mode_is_asked_again_plainly():
     script = [("status", 400, {}, "unknown field: response_format"), ("reply", '{"name": "a", "count": 1}'),
               ("reply", '{"name": "b", "count": 1}')]

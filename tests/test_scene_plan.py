@@ -227,6 +227,9 @@ def test_impossible_relations_and_objects_are_reported():
     ({"rooms": [{"name": "a", "type": "kitchen", "objects": [{"name": "x", "relations": [{"kind": "near"}]}]}]},
      "needs a target"),
     ({"version": 2, "rooms": [{"name": "a", "type": "kitchen"}]}, "version"),
+    ({"rooms": [{"name": f"r{k}", "type": "kitchen", "objects": [{"name": f"o{j}", "asset": "apple", "count": 12}
+                                                                 for j in range(2)]} for k in range(7)]},
+     "asks for 168 objects; at most 160"),
 ])
 def test_invalid_plans_are_refused(bad, match):
     with pytest.raises(ValueError, match=match):

@@ -74,6 +74,7 @@ FRONT_ANGLE = 35.0  #: in_front_of: within this angle of the target's front dire
 SIDE_ANGLE = 50.0  #: left_of / right_of: within this angle of the target's left / right...
 BESIDE_GAP = 1.5  #: ...and the footprints at most this far apart
 
+MAX_OBJECTS = 160  #: objects (copies counted) in one plan
 CELL_AREA = 2.3 * 2.3  # m^2 per floor-plan cell (the middle of the generator's cell sizes)
 CELL_RANGE = (2.0, 2.6)
 WALL_HEIGHT = 3.0
@@ -160,6 +161,9 @@ class ScenePlan(BaseModel):
 
     @model_validator(mode="after")
     def _doors(self) -> ScenePlan:
+        total = sum(o.count for r in self.rooms for o in r.objects)
+        if total > MAX_OBJECTS:
+            raise ValueError(f"the plan asks for {total} objects; at most {MAX_OBJECTS}")
         names = {r.name for r in self.rooms}
         for a, b in self.doors:
             for n in (a, b):
