@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import json
 import math
-import time
 from pathlib import Path
 
 import numpy as np
@@ -178,18 +177,14 @@ def test_requested_doors_link_the_rooms():
     assert frozenset({ids["bedroom"], ids["bathroom"]}) in links
 
 
-def test_four_room_plan_of_forty_objects_is_fast():
+def test_four_room_plan_of_forty_objects_solves():
+    # Its speed is measured by `python benchmarks/generation.py --plans` (docs/llm.md).
     plan = _plan("four_rooms_dense")
     assert len(plan["rooms"]) == 4 and sum(o.get("count", 1) for r in plan["rooms"] for o in r["objects"]) == 37
-    solve_plan(plan, 99, CATALOG)  # warm: the registry caches built asset models
-    times = []
     for seed in range(3):
-        started = time.process_time()
         solved = solve_plan(plan, seed, CATALOG)
-        times.append(time.process_time() - started)
         assert len(solved.scene.objects) >= 36 and check_house(solved.scene) == []
         check_solution(plan, solved)
-    assert sorted(times)[1] <= 0.2, times  # the median, CPU seconds on one core
 
 
 # -- names -----------------------------------------------------------------------------------
