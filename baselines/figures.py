@@ -388,6 +388,51 @@ FIGURES.update({f.name: f for f in (
 )})
 
 
+# -- speed ----------------------------------------------------------------------------------------
+THROUGHPUT_ARGS = ("--rounds", "5")
+
+
+def throughput_table(report: dict[str, Any]) -> Table:
+    """The rows of a ``benchmarks/throughput.py --json`` report."""
+    rows: list[list[Any]] = []
+    for name, row in report["rows"].items():
+        label = row["label"].replace("Legent/", "")
+        collect = name.startswith("collect")
+        if "rate" not in row:
+            rows.append([label, row.get("reason") or row.get("status", ""), "", None, None, None, None, None])
+            continue
+        ratio = None if collect else row.get("x_fourrooms", 1.0 if name == "mw-fourrooms" else None)
+        rows.append([label, round(float(row["rate"]), 2 if collect else 0),
+                     "trajectories/s" if collect else "steps/s", ratio,
+                     None if collect else row.get("cpu_x_fourrooms"), row.get("reset_ms"), row.get("reset_ms_mean"),
+                     row.get("x_vec1")])
+    machine = report.get("machine", {})
+    load = machine.get("load_before", [None])[0], machine.get("load_after", [None])[0]
+    args = report.get("args", {})
+    note = (f"{args.get('rounds')} rounds x {args.get('steps')} steps per row at {args.get('size')}x{args.get('size')}, "
+            f"one core (the N=2 vector rows: all cores), rows alternating; GL {machine.get('gl_renderer')}; "
+            f"load {load[0]:.1f} before, {load[1]:.1f} after. Ratios are medians of per-round ratios to "
+            "Miniworld's FourRooms measured in the same run.")
+    return Table(["row", "rate", "unit", "x MW FourRooms", "cpu x MW FourRooms", "reset ms (median)",
+                  "reset ms (mean)", "N=2 / N=1"], rows, note=note,
+                 formats=["", "g", "", ".2f", ".2f", ".1f", ".1f", ".2f"])
+
+
+def throughput() -> Table:
+    """docs/performance.md, "Training-loop throughput": ``benchmarks/throughput.py``."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as scratch:
+        out = Path(scratch) / "throughput.json"
+        subprocess.run([sys.executable, str(ROOT / "benchmarks" / "throughput.py"), *THROUGHPUT_ARGS,
+                        "--json", str(out)], check=True, cwd=ROOT)
+        return throughput_table(json.loads(out.read_text()))
+
+
+FIGURES["throughput"] = Figure("throughput", "python benchmarks/throughput.py " + " ".join(THROUGHPUT_ARGS),
+                               throughput, cheap=False)
+
+
 def figure(name: str) -> Figure:
     try:
         return FIGURES[name]
