@@ -15,7 +15,7 @@ import gymnasium as gym
 
 import legent_gym
 from legent_gym.atomic import atomic_write_text
-from legent_gym.envs.registration import ID_TABLE
+from legent_gym.envs.registration import ID_TABLE, SCENE_TASK_IDS
 from legent_gym.tasks import MAX_ACTIONS
 
 OUT = Path(__file__).resolve().parent / "envs"
@@ -27,6 +27,8 @@ def page() -> str:
     cls = getattr(__import__(module, fromlist=[name]), name)
     doc = inspect.cleandoc(cls.__doc__)
     ids = "\n".join(f"| `{env_id}` | {task} | {layout} | {MAX_ACTIONS} |" for env_id, task, layout in ID_TABLE)
+    ids += "".join(f"\n| `{env_id}` | {task} (tasks from `tasks=`) | the `scene=` given | {MAX_ACTIONS} |"
+                   for env_id, task in SCENE_TASK_IDS)
     return (f"# Household environments\n\n"
             f"| id | task | layout | max steps |\n|---|---|---|---|\n{ids}\n\n"
             "Every id takes both action spaces: `gym.make(id)` (text) or "

@@ -25,7 +25,9 @@ Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command),
 forkserver, one core each, results in order), :mod:`legent_gym.scale` (the same as Ray
 tasks, on one machine or a cluster), :mod:`legent_gym.llm` (one client for any
 OpenAI-compatible chat endpoint, its JSON replies validated with pydantic),
-:mod:`legent_gym.prompts` (the LLM prompts, versioned; scenes from plans and prompts).
+:mod:`legent_gym.prompts` (the LLM prompts, versioned; scenes from plans and prompts),
+:mod:`legent_gym.task_generation` (tasks for a scene written by an LLM, kept only if the
+experts complete them; ``Legent/Custom-v0`` plays them).
 """
 
 from legent_gym import gl_backend  # noqa: F401  (must run before mujoco is imported)

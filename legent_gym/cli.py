@@ -8,6 +8,7 @@
     legent-gym generate --preset TwoRoom --seed 0 --count 100 --out-dir houses/
     legent-gym generate --plan plan.json --seed 0 --out house.json [--map house.png]
     legent-gym generate --prompt "a flat with a kitchen" --llm-base-url URL --model M [--timeout S] [--retries N] --out house.json
+    legent-gym tasks generate SCENE.json --n 20 --llm-base-url URL --model M [--timeout S] [--retries N] --out tasks.jsonl
     legent-gym collect ENV_ID --episodes N --out DIR [--format minari,legent,video] [--workers K] [--seed S]
         [--backend process|ray] [--ray-address auto|HOST:PORT]
     legent-gym play ENV_ID [--as user|agent] [--partner expert|random|llm] [--port P] [--size WxH] [--record DIR]
@@ -172,6 +173,13 @@ def cmd_generate(args) -> int:
     return 0
 
 
+def cmd_tasks_generate(args) -> int:
+    from legent_gym.task_generation import generate_tasks
+
+    _check_output(args.out)
+    return generate_tasks(args, UserError)
+
+
 #: The largest house seed (seeds are stored in the scene and seed numpy's generators).
 MAX_SEED = 2**63 - 1
 
@@ -261,6 +269,16 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_llm_arguments(p)
     p.set_defaults(func=cmd_generate)
+
+    tasks = sub.add_parser("tasks", parents=[common], help="tasks for a scene").add_subparsers(
+        dest="tasks_command", required=True)
+    p = tasks.add_parser("generate", parents=[common], help="ask an LLM for tasks in a scene; keep those the "
+                                                            "experts complete (see docs/llm.md)")
+    p.add_argument("scene")
+    p.add_argument("--n", type=int, default=20, help="tasks to ask for (default 20)")
+    p.add_argument("--out", required=True, help="tasks file to write (JSON lines)")
+    add_llm_arguments(p)
+    p.set_defaults(func=cmd_tasks_generate)
 
     p = sub.add_parser("collect", parents=[common], help="record successful trajectories (of the expert by default)",
                        description="Record successful episodes of ENV_ID as Minari, LEGENT and video "

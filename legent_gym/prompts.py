@@ -6,7 +6,8 @@ write a :class:`~legent_gym.world.generation.plan.ScenePlan` for a description o
 the reply validated as a plan, an invalid one sent back once with the error);
 :func:`generate_scene` is ``legent-gym generate --plan`` / ``--prompt``: solve the plan,
 write the plan beside the scene, the scene and the map (each atomically, only after the
-house is built).
+house is built). :data:`TASK_PROMPT` (version :data:`TASK_PROMPT_VERSION`) asks for tasks
+in a house, given its object table (:mod:`legent_gym.task_generation` runs it).
 """
 
 from __future__ import annotations
@@ -132,3 +133,44 @@ def generate_scene(args: Any, user_error: type[Exception]) -> int:
         save_topdown_map(scene, args.map)
         print(f"wrote {args.map}")
     return 0
+
+
+# -- tasks for a scene -------------------------------------------------------------------
+
+TASK_PROMPT_VERSION = 1
+
+TASK_PROMPT = """\
+You write tasks for an embodied agent in a 3-D house, in the manner of LEGENT's task \
+creator. A user stands in the house and speaks an instruction; the agent carries it out. \
+The house's objects (id | name | x | y | z in metres | what it stands on | can be picked up):
+
+{objects}
+
+The agent stands at ({agent_x:.2f}, {agent_y:.2f}); the user at {user}.
+
+Write {n} different tasks as one JSON object, with no text around it:
+
+{{"tasks": [{{"kind": "<kind>", "instruction": "<what the user says>", "target": <object id or null>,
+             "receptacle": <object id or null>, "code": "<the agent's intermediate code>"}}]}}
+
+Kinds: "come" (come to the user; no target), "goto" (go to the target), "take" (pick up the \
+target), "bring" (bring the target to the user), "put" (put the target on the receptacle), \
+"where" (say where the target is: the receptacle is what it stands on), "exist" (is there \
+such a thing? answer where it is: the receptacle is what it stands on). Only objects that \
+can be picked up may be taken, brought or put.
+Code is a sequence of calls: goto_user(), goto(id), find(id), target(id), interact(), \
+grab(), put(), speak("..."), finish(). goto(id) walks to the object; target(id) aims at it; \
+interact() grabs what is aimed at, or puts the held object where it aims. For example: \
+take: goto(7) target(7) interact(); bring: goto(7) target(7) interact() goto_user(); put: \
+goto(7) target(7) interact() goto(3) target(3) interact(); where: find(7) speak("It's on \
+the table."). Use only the ids of the table."""
+
+TASK_USER = "Write {n} tasks for this house."
+
+
+def task_messages(objects: str, agent_xy: tuple[float, float], user_xy: tuple[float, float] | None,
+                  n: int) -> list[dict[str, str]]:
+    """The chat messages that ask for ``n`` tasks in a house with this object table."""
+    user = "nowhere (no user)" if user_xy is None else f"({user_xy[0]:.2f}, {user_xy[1]:.2f})"
+    system = TASK_PROMPT.format(objects=objects, agent_x=agent_xy[0], agent_y=agent_xy[1], user=user, n=n)
+    return [{"role": "system", "content": system}, {"role": "user", "content": TASK_USER.format(n=n)}]

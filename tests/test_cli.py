@@ -331,6 +331,26 @@ def test_collect_bad_arguments_are_one_line(tmp_path, case):
     assert_one_line_error(run_cli("collect", *args, "--quiet", cwd=tmp_path), named)
 
 
+BAD_TASKS = {
+    "zero tasks": (["--n", "0", "--model", "m", "--out", "t.jsonl"], "--n"),
+    "too many tasks": (["--n", "1000", "--model", "m", "--out", "t.jsonl"], "--n"),
+    "no model": (["--out", "t.jsonl"], "--model"),
+    "out is a directory": (["--model", "m", "--out", "outdir"], "outdir"),
+    "scene missing": (["--model", "m", "--out", "t.jsonl"], "missing.json"),
+    "nothing listens": (["--model", "m", "--out", "t.jsonl", "--llm-base-url", "http://127.0.0.1:9/v1",
+                         "--retries", "0", "--timeout", "2"], "Connection refused"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_TASKS)
+def test_tasks_generate_bad_arguments_are_one_line(tmp_path, case):
+    args, named = BAD_TASKS[case]
+    (tmp_path / "outdir").mkdir()
+    scene = "missing.json" if case == "scene missing" else str(EXAMPLES / "one_room.json")
+    assert_one_line_error(run_cli("tasks", "generate", scene, *args, cwd=tmp_path), named)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["outdir"]
+
+
 @pytest.mark.parametrize("where", ["before", "after"])
 def test_debug_shows_the_traceback(tmp_path, where):
     bad = tmp_path / "deep.json"

@@ -103,7 +103,8 @@ class HouseholdEnv(gym.Env):
     ``max_episode_steps`` actions (25 by default, the paper's evaluation cap).
 
     ## Arguments
-    * ``task``: ComeHere, GoTo, PickUp, BringMe, WhereIs or PutOn.
+    * ``task``: ComeHere, GoTo, PickUp, BringMe, WhereIs or PutOn; or Custom (``Legent/Custom-v0``).
+    * ``tasks``: for Custom, a tasks file of the house given as ``scene`` (``legent-gym tasks generate``).
     * ``layout``: the generation preset of new houses: OneRoom, TwoRoom, FourRoom or
       Apartment.
     * ``action_type``: ``"text"`` (default) or ``"continuous"``.
@@ -138,11 +139,12 @@ class HouseholdEnv(gym.Env):
     * ``render_size``: the ``render()`` image's side in pixels (256).
     * ``task_options``: the task's own arguments: WhereIs takes ``objects`` and
       ``receptacles``, the categories it asks about (``legent_gym.tasks.PAPER_WHERE_IS``
-      is LEGENT's four objects on its five receptacle kinds).
+      is LEGENT's four objects on its five receptacle kinds); Custom takes ``order``,
+      ``"random"`` (default: a task drawn per episode) or ``"sequential"``.
 
     ## Version History
-    * v0: initial release; ``task_options``, ``houses`` and ``episodes_per_house`` added
-      later without changing any default episode.
+    * v0: initial release; ``task_options``, ``houses``, ``episodes_per_house`` and
+      ``tasks`` (``Legent/Custom-v0``) added later without changing any default episode.
     """
 
     metadata = {"render_modes": ["rgb_array", "depth_array"], "render_fps": 4}
@@ -156,7 +158,7 @@ class HouseholdEnv(gym.Env):
                  distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
                  episodes_per_house: int = 1, houses_kept: int = HOUSE_CACHE_SIZE, pin_worker: bool = True,
-                 prepare_ahead: bool | None = None):
+                 prepare_ahead: bool | None = None, tasks: str | Path | list | None = None):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -180,6 +182,10 @@ class HouseholdEnv(gym.Env):
         source = HouseSource(layout, scene=load_scene(scene) if isinstance(scene, str | Path) else scene,
                              house_seed=house_seed, house_pool=house_pool, houses=houses)
         #: The episode engine: house, bodies, goal, views (see :mod:`legent_gym.envs.episode`).
+        if task == "Custom" and scene is None:
+            raise ValueError("the Custom task plays tasks written for one house: give scene= (its scene file)")
+        if tasks is not None:
+            task_options = {**(task_options or {}), "tasks": tasks}
         self.episode = Episode(make_task(task, **(task_options or {})), source, build_options,
                                Observing(self.width, self.height, depth, segmentation), reach=reach,
                                limits=ActionLimits(), episodes_per_house=episodes_per_house,

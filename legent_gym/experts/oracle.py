@@ -89,7 +89,9 @@ class Oracle:
 
     @property
     def task_name(self) -> str:
-        return self._episode.task.name
+        """The template task of the current goal (a Custom task's goals are template goals)."""
+        task, goal = self._episode.task, self._episode.goal
+        return task.name if goal is None else task.goal_task(goal)
 
     @property
     def goal(self) -> TaskInstance:

@@ -198,6 +198,11 @@ class Task(ABC):
     def sample(self, ctx: TaskContext, rng: np.random.Generator) -> TaskInstance | None:
         """A goal in this house, or None if the house offers none (a new house is drawn)."""
 
+    def goal_task(self, goal: TaskInstance) -> str:
+        """The name of the template task whose expert plan completes ``goal`` (this task's
+        own name; a task that plays the templates' goals says which)."""
+        return self.name
+
     def word(self, rng: np.random.Generator, **names: str) -> str:
         template = self.templates[int(rng.integers(len(self.templates)))]
         return template.format(**names)

@@ -343,11 +343,15 @@ TASKS: dict[str, type[Task]] = {t.name: t for t in (ComeHere, GoTo, PickUp, Brin
 
 
 def make_task(name: str, **options: Any) -> Task:
-    """The task ``name`` with its ``options`` (keyword arguments of its class; only WhereIs has any)."""
-    if name not in TASKS:
-        raise ValueError(f"unknown task {name!r}; known: {', '.join(TASKS)}")
+    """The task ``name`` (one of :data:`TASKS`, or ``Custom``: tasks read from a file, see
+    :mod:`legent_gym.tasks.custom`) with its ``options`` (keyword arguments of its class)."""
+    from legent_gym.tasks.custom import Custom  # it plays this module's goals
+
+    table: dict[str, type[Task]] = {**TASKS, Custom.name: Custom}
+    if name not in table:
+        raise ValueError(f"unknown task {name!r}; known: {', '.join(table)}")
     try:
-        return TASKS[name](**options)
+        return table[name](**options)
     except TypeError as err:
         raise ValueError(f"task {name} does not take the options {sorted(options)}: {err}") from None
 
