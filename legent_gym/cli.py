@@ -4,6 +4,7 @@
     legent-gym render SCENE.json --view topdown|agent|user --out FILE.png [--size N] [--profile fast|pretty]
     legent-gym asset list
     legent-gym asset preview PATH.glb|ASSET_ID --out FILE.png [--size N] [--variant K]
+    legent-gym asset annotate PATH.glb [--llm-base-url URL --model M] [--out asset.json] [--cache-dir DIR]
     legent-gym generate --preset TwoRoom --seed 3 --out house.json [--map house.png]
     legent-gym generate --preset TwoRoom --seed 0 --count 100 --out-dir houses/
     legent-gym generate --plan plan.json --seed 0 --out house.json [--map house.png]
@@ -126,6 +127,14 @@ def cmd_asset_preview(args) -> int:
     return 0
 
 
+def cmd_asset_annotate(args) -> int:
+    from legent_gym.annotation import annotate_command
+
+    if args.out:
+        _check_output(args.out)
+    return annotate_command(args, UserError)
+
+
 def cmd_generate(args) -> int:
     from legent_gym.world.generation import generate_house
     from legent_gym.world.scene import save_scene
@@ -244,7 +253,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", choices=["fast", "pretty"], default="pretty")
     p.set_defaults(func=cmd_render)
 
-    asset = sub.add_parser("asset", parents=[common], help="list or preview assets").add_subparsers(dest="asset_command", required=True)
+    asset = sub.add_parser("asset", parents=[common], help="list, preview or annotate assets").add_subparsers(dest="asset_command", required=True)
     p = asset.add_parser("list", help="list registered assets", parents=[common])
     p.set_defaults(func=cmd_asset_list)
     p = asset.add_parser("preview", parents=[common], help="render one asset (a built-in id or a .glb/.gltf file)")
@@ -256,6 +265,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", choices=["fast", "pretty"], default="pretty")
     p.set_defaults(func=cmd_asset_preview)
 
+    p = asset.add_parser("annotate", parents=[common], help="annotate a .glb/.gltf file: geometry computed, "
+                                                           "semantics from a VLM (see docs/llm.md)")
+    p.add_argument("asset")
+    p.add_argument("--out", help="annotation JSON to write (default: beside the file, NAME.asset.json)")
+    p.add_argument("--cache-dir", help="annotations cached by file hash (default: ~/.cache/legent-gym/annotations)")
+    from legent_gym.prompts import add_llm_arguments
+
+    add_llm_arguments(p)
+    p.set_defaults(func=cmd_asset_annotate)
+
     p = sub.add_parser("generate", parents=[common], help="generate houses procedurally")
     p.add_argument("--preset", default="TwoRoom")
     p.add_argument("--seed", type=int, default=0)
@@ -265,8 +284,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out-dir", help="directory for a batch")
     p.add_argument("--plan", help="build the house of a scene plan (JSON; see docs/llm.md) instead of a preset")
     p.add_argument("--prompt", help="ask an LLM for a plan of this description, build it, save the plan beside --out")
-    from legent_gym.prompts import add_llm_arguments
-
     add_llm_arguments(p)
     p.set_defaults(func=cmd_generate)
 

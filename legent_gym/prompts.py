@@ -174,3 +174,19 @@ def task_messages(objects: str, agent_xy: tuple[float, float], user_xy: tuple[fl
     user = "nowhere (no user)" if user_xy is None else f"({user_xy[0]:.2f}, {user_xy[1]:.2f})"
     system = TASK_PROMPT.format(objects=objects, agent_x=agent_xy[0], agent_y=agent_xy[1], user=user, n=n)
     return [{"role": "system", "content": system}, {"role": "user", "content": TASK_USER.format(n=n)}]
+
+
+# -- asset annotation ----------------------------------------------------------------------
+
+ANNOTATION_PROMPT_VERSION = 1
+
+ANNOTATION_PROMPT = """\
+These are four views of one 3-D asset for a household simulator, from cameras 90 degrees \
+apart around it (views 0, 1, 2, 3). Its bounding box is {x:.2f} x {y:.2f} x {z:.2f} m \
+(width, depth, height). Describe it as one JSON object, with no text around it:
+
+{{"name": "<what people call it, e.g. mug>", "category": "<one or two words, e.g. coffee_table>",
+  "description": "<one sentence>", "pickable": <can a person pick it up with one hand: true/false>,
+  "receptacle": <can things be put on it: true/false>, "on_floor": <true/false>,
+  "on_wall": <true/false>, "on_object": <does it stand on furniture: true/false>,
+  "materials": ["<material>", ...], "mass": <kilograms>, "front_view": <0-3: the view that shows its front>}}"""

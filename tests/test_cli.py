@@ -331,6 +331,28 @@ def test_collect_bad_arguments_are_one_line(tmp_path, case):
     assert_one_line_error(run_cli("collect", *args, "--quiet", cwd=tmp_path), named)
 
 
+BAD_ANNOTATE = {
+    "missing file": (["nothere.glb"], "nothere.glb"),
+    "not a glTF": (["afile"], "not a .glb or .gltf file"),
+    "URL without model": ([str(SHARED_GLTF / "Box.gltf"), "--llm-base-url", "http://127.0.0.1:9/v1"], "--model"),
+    "out is a directory": ([str(SHARED_GLTF / "Box.gltf"), "--out", "outdir"], "outdir"),
+    "nothing listens": ([str(SHARED_GLTF / "Box.gltf"), "--llm-base-url", "http://127.0.0.1:9/v1", "--model", "m",
+                         "--retries", "0", "--timeout", "2"], "Connection refused"),
+}
+
+
+@pytest.mark.parametrize("case", BAD_ANNOTATE)
+def test_asset_annotate_bad_arguments_are_one_line(tmp_path, case):
+    args, named = BAD_ANNOTATE[case]
+    if not SHARED_GLTF.is_dir():
+        pytest.skip(f"the shared glTF samples are missing ({SHARED_GLTF})")
+    (tmp_path / "outdir").mkdir()
+    (tmp_path / "afile").write_text("")
+    assert_one_line_error(run_cli("asset", "annotate", *args, "--cache-dir", "cache", "--out", "x.json"
+                                  if "--out" not in args else "outdir", cwd=tmp_path), named)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile", "outdir"]
+
+
 BAD_TASKS = {
     "zero tasks": (["--n", "0", "--model", "m", "--out", "t.jsonl"], "--n"),
     "too many tasks": (["--n", "1000", "--model", "m", "--out", "t.jsonl"], "--n"),

@@ -1,0 +1,131 @@
+"""`legent-gym asset annotate` on the shared glTF samples, with a real chat completions server
+on 127.0.0.1 replaying a VLM's reply (tests/chat_server.py): geometry computed, semantics
+from the reply, cached by file hash; the annotated asset is placed by the generator and
+rendered in the env."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from legent_gym.annotation import SEMANTIC_FIELDS, AssetAnnotation, register_annotation
+from legent_gym.cli import main
+from legent_gym.world.assets import registry
+
+from .chat_server import ReplayServer
+from .conftest import SHARED_GLTF
+
+SAMPLES = sorted(SHARED_GLTF.glob("*.gltf")) if SHARED_GLTF.is_dir() else []
+needs_samples = pytest.mark.skipif(not SAMPLES, reason=f"the shared glTF samples are missing ({SHARED_GLTF})")
+REPLY = {"name": "Storage box", "category": "storage box", "description": "A plain closed box.", "pickable": False,
+         "receptacle": True, "on_floor": True, "on_wall": False, "on_object": False, "materials": ["cardboard"],
+         "mass": 3.0, "front_view": 1}
+
+
+def _annotate(path, out, cache, *extra):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # flat samples warn about their collision box
+        return main(["asset", "annotate", str(path), "--out", str(out), "--cache-dir", str(cache), *extra])
+
+
+def _llm(url, timeout="20"):
+    return ["--llm-base-url", url, "--model", "test-vlm", "--timeout", timeout, "--retries", "0"]
+
+
+@needs_samples
+@pytest.mark.parametrize("sample", [p.name for p in SAMPLES])
+def test_every_sample_is_annotated_from_four_views_and_cached(tmp_path, sample):
+    path = SHARED_GLTF / sample
+    with ReplayServer([("reply", json.dumps(REPLY))]) as server:
+        assert _annotate(path, tmp_path / "a.json", tmp_path / "cache", *_llm(server.url)) == 0
+        # The same file again: the cached annotation, no request.
+        assert _annotate(path, tmp_path / "b.json", tmp_path / "cache", *_llm(server.url)) == 0
+    assert len(server.requests) == 1
+    content = server.requests[0]["body"]["messages"][0]["content"]
+    images = [part["image_url"]["url"] for part in content if part["type"] == "image_url"]
+    assert len(images) == 4 and all(url.startswith("data:image/png;base64,") for url in images)
+    assert len(set(images)) >= 2  # the views differ
+    a = AssetAnnotation.model_validate_json((tmp_path / "a.json").read_text())
+    b = AssetAnnotation.model_validate_json((tmp_path / "b.json").read_text())
+    assert a == b and a.semantics is not None and a.semantics.category == "storage_box"
+    assert a.yaw == 270.0 and a.missing == []
+    assert all(v >= 0 for v in a.geometry.size) and max(a.geometry.size) > 0
+
+
+@needs_samples
+def test_the_box_geometry_is_measured(tmp_path):
+    assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache") == 0
+    a = AssetAnnotation.model_validate_json((tmp_path / "box.json").read_text())
+    assert a.geometry.up_axis == "y" and a.geometry.stable
+    assert a.geometry.size == pytest.approx((1.0, 1.0, 1.0), abs=1e-3)
+    [top] = a.geometry.surfaces  # the cube's lid, rays on a 5 cm grid, 2 cm margin
+    assert top.height == pytest.approx(1.0, abs=1e-3)
+    assert top.half_size == pytest.approx((0.48, 0.48), abs=1e-3)
+    assert a.semantics is None and a.missing == list(SEMANTIC_FIELDS)
+
+
+@needs_samples
+def test_without_an_endpoint_the_geometry_is_written_and_the_rest_named(tmp_path, capsys):
+    assert _annotate(SHARED_GLTF / "BoxTextured.gltf", tmp_path / "box.json", tmp_path / "cache") == 0
+    out = capsys.readouterr().out
+    assert "missing: name, category, description" in out and "give --llm-base-url and --model" in out
+
+
+FAILURES = {
+    "HTTP 500": ([("status", 500)], "failed 1 time(s) (last: HTTP 500)"),
+    "not JSON twice": ([("reply", "A box."), ("reply", "Still a box.")], "sent an invalid Semantics twice"),
+    "wrong types twice": ([("reply", json.dumps({**REPLY, "mass": "heavy"}))] * 2, "mass: Input should be"),
+    "front view out of range": ([("reply", json.dumps({**REPLY, "front_view": 7}))] * 2, "front_view"),
+}
+
+
+@needs_samples
+@pytest.mark.parametrize("case", FAILURES)
+def test_endpoint_failures_are_one_line_and_write_nothing(tmp_path, capsys, case):
+    script, needle = FAILURES[case]
+    with ReplayServer(script) as server:
+        assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache",
+                         *_llm(server.url)) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("legent-gym: error: ") and err.count("\n") == 1 and needle in err, err
+    assert not (tmp_path / "box.json").exists() and not list((tmp_path / "cache").glob("*.json"))
+
+
+@needs_samples
+def test_the_annotated_asset_is_placed_by_the_generator_and_rendered(tmp_path):
+    from legent_gym.envs.household import HouseholdEnv
+    from legent_gym.world.generation import check_house
+    from legent_gym.world.generation.plan import load_plan, solve_plan
+    from legent_gym.world.render import Renderer
+
+    with ReplayServer([("reply", json.dumps(REPLY))]) as server:
+        assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache",
+                         *_llm(server.url)) == 0
+    asset_id = register_annotation(tmp_path / "box.json")
+    try:
+        assert asset_id == "storage_box" and registry.describe(asset_id).receptacles
+        plan = load_plan({"version": 1, "rooms": [{"name": "living", "type": "living room", "size": 16, "objects": [
+            {"name": "box", "asset": "storage box", "relations": [{"kind": "against_wall"}]},
+            {"name": "apple", "on": "box"}, {"name": "sofa"}]}]})
+        solved = solve_plan(plan, 0)
+        scene = solved.scene
+        assert check_house(scene) == [] and solved.report.unmet == []
+        [box] = [o for o in scene.objects if o.asset == asset_id]
+        assert [o.on for o in scene.objects if o.asset == "apple"] == [box.id]  # on the annotated surface
+        env = HouseholdEnv("ComeHere", scene=scene, width=32, height=32)
+        env.reset(seed=0)
+        world = env.episode.world
+        assert world is not None
+        renderer = Renderer(world, 96, 96)
+        try:
+            seen = renderer.segmentation("topdown")
+        finally:
+            renderer.close()
+        assert (seen == box.id).sum() > 20  # the box is drawn
+        assert np.asarray(env.render() if env.render_mode else env.episode.views()["rgb"]).std() > 0
+        env.close()
+    finally:
+        registry.unregister(asset_id)
