@@ -140,6 +140,28 @@ def test_custom_env_passes_check_env_and_draws_tasks_by_seed(generated):
     env.close()
 
 
+def test_custom_env_pickles_and_its_spec_round_trips(generated):
+    import pickle
+
+    out, _ = generated
+    env = gym.make("Legent/Custom-v0", scene=str(SCENE), tasks=str(out), width=32, height=32)
+    obs, _ = env.reset(seed=4)
+    clone = pickle.loads(pickle.dumps(env))
+    assert clone.reset(seed=4)[0]["instruction"] == obs["instruction"]
+    remade = gym.make(gym.envs.registration.EnvSpec.from_json(env.spec.to_json()))
+    assert remade.reset(seed=4)[0]["instruction"] == obs["instruction"]
+    for e in (env, clone, remade):
+        e.close()
+
+
+def test_collect_records_expert_episodes_of_the_generated_tasks(generated, tmp_path, capsys):
+    out, _ = generated
+    kwargs = json.dumps({"scene": str(SCENE), "tasks": str(out)})
+    assert main(["collect", "Legent/Custom-v0", "--episodes", "4", "--out", str(tmp_path / "data"), "--format",
+                 "legent", "--env-kwargs", kwargs, "--quiet"]) == 0
+    assert "0 failed attempts, success rate 100.0%" in capsys.readouterr().out
+
+
 def test_custom_env_refuses_another_scene_and_a_missing_one(generated, tmp_path):
     out, _ = generated
     with pytest.raises(ValueError, match="give scene="):
