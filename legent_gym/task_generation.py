@@ -3,7 +3,9 @@
 ``legent-gym tasks generate scene.json --n 20 --llm-base-url URL --model M --out
 tasks.jsonl``: the LLM is shown the scene's object table (:data:`~legent_gym.prompts.TASK_PROMPT`,
 LEGENT's task creator's table: id, name, x, y, z) and writes tasks as JSON, each a kind,
-an instruction, its objects and intermediate code. Each task is then checked, in order:
+an instruction, its objects and intermediate code (or, as a string, LEGENT's own form
+``Task: ...; Plan: ...; Solution: ...``, whose kind and objects are read off the solution
+by :func:`from_legent_text`). Each task is then checked, in order:
 
 1. its fields (:class:`~legent_gym.tasks.custom.TaskSpec`: a known kind, the objects that
    kind needs);
@@ -26,6 +28,7 @@ scene's objects as ``[id, asset]`` pairs, prompt version, model) and one line pe
 from __future__ import annotations
 
 import json
+import re
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -73,6 +76,50 @@ def object_table(ctx: Any) -> str:
         lines.append(f"{obj.id} | {ctx.name_of(obj.id)} | {x:.2f} | {y:.2f} | {z:.2f} | {on} | "
                      f"{'yes' if obj.kind == 'interactable' else 'no'}")
     return "\n".join(lines)
+
+
+_LEGENT_TASK = re.compile(r"^\s*Task:\s*(?P<task>.+?)\s*;\s*Plan:\s*(?P<plan>.*?)\s*;\s*Solution:\s*(?P<code>.+?)\s*$",
+                          re.DOTALL | re.IGNORECASE)
+
+
+def from_legent_text(text: str, scene: Any) -> dict[str, Any]:
+    """A task dict from LEGENT's ``Task: ...; Plan: ...; Solution: ...`` form, its kind and
+    objects read off the solution's code; ``ValueError`` saying why not."""
+    from legent_gym.experts.program import ProgramError, parse_program
+
+    match = _LEGENT_TASK.match(text)
+    if match is None:
+        raise ValueError("neither a JSON object nor 'Task: ...; Plan: ...; Solution: ...'")
+    code = match["code"]
+    out: dict[str, Any] = {"instruction": match["task"], "code": code, "plan": match["plan"]}
+    try:
+        program = parse_program(code)
+    except ProgramError as err:
+        raise ValueError(f"code: {err}") from None
+    names = [i.name for i in program]
+    acts = [k for k, n in enumerate(names) if n in ("interact", "grab", "put")]
+    objects = [(k, i.arg) for k, i in enumerate(program) if i.name in ("goto", "find", "target")]
+    if "speak" in names and "find" in names:
+        target = next(a for k, a in objects if program[k].name == "find")
+        hosts = {o.id: o.on for o in scene.objects}
+        out.update(kind="where", target=target, receptacle=hosts.get(target))
+    elif acts:
+        before = [a for k, a in objects if k < acts[0]]
+        after = [a for k, a in objects if k > acts[0]]
+        if not before:
+            raise ValueError("code: nothing is approached before the first interaction")
+        out["target"] = before[-1]
+        if len(acts) > 1 and after:
+            out.update(kind="put", receptacle=after[-1])
+        else:
+            out["kind"] = "bring" if "goto_user" in names[acts[0]:] else "take"
+    elif names == ["goto_user"] or names == ["goto_user", "finish"]:
+        out["kind"] = "come"
+    elif objects and all(n in ("goto", "finish") for n in names):
+        out.update(kind="goto", target=objects[-1][1])
+    else:
+        raise ValueError(f"cannot tell the kind of task from the solution {code!r}")
+    return out
 
 
 def _static_problem(spec: TaskSpec, ctx: Any) -> str | None:
@@ -141,6 +188,12 @@ def check_tasks(scene: Any, drafts: list[Any], *, header: dict[str, Any] | None 
     seen: set[tuple[str, str]] = set()
     env = None
     for draft in drafts:
+        if isinstance(draft, str):
+            try:
+                draft = from_legent_text(draft, scene)
+            except ValueError as err:
+                slots.append({"status": "rejected", "reason": str(err), "reply": draft})
+                continue
         if not isinstance(draft, dict):
             slots.append({"status": "rejected", "reason": "not a JSON object", "reply": draft})
             continue

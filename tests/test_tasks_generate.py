@@ -37,6 +37,15 @@ GOOD = [
     {"kind": "exist", "instruction": "Is there a vase in the living room?", "target": 53, "receptacle": 12,
      "code": 'find(53) speak("Yes, it is on the sofa.")'},
 ]
+#: LEGENT's own form (kind and objects read off the solution), with the kind and objects expected.
+LEGENT_FORM = [
+    ("Task: Bring me the laptop on the sofa.; Plan: Go to the laptop, take it, come back.; "
+     "Solution: goto(54) target(54) interact() goto_user()", ("bring", 54, None)),
+    ('Task: Where is the toy?; Plan: Find it, then answer.; Solution: find(57) speak("It\'s on the coffee table.")',
+     ("where", 57, 13)),
+    ("Task: Put the phone on the dining table.; Plan: Take it there.; "
+     "Solution: goto(56) target(56) interact() goto(18) target(18) interact()", ("put", 56, 18)),
+]
 #: Each bad task and a phrase its rejection reason must hold.
 BAD = [
     ({"kind": "goto", "instruction": "Go to the piano.", "target": 999, "code": "goto(999)"},
@@ -57,7 +66,13 @@ BAD = [
     ({"kind": "put", "instruction": "Put the remote down.", "target": 55, "code": "goto(55)"},
      "needs a receptacle"),
     ({"kind": "come", "instruction": "Come here.", "code": "goto_user()"}, "the same instruction twice"),
-    ("just words", "not a JSON object"),
+    ("Task: Bring me the orange on the side table.; Plan: Go to the orange, take it, come back.; "
+     "Solution: goto(61) target(61) interact() goto_user()", "its code fails: not done within 25 actions"),
+    ("Task: Put the phone on the coffee table.; Plan: Take it there.; "
+     "Solution: goto(56) target(56) interact() goto(13) target(13) interact()", "target 56 (phone) is on 13 already"),
+    ("just words", "neither a JSON object nor 'Task: ...; Plan: ...; Solution: ...'"),
+    ("Task: Dance.; Plan: Dance.; Solution: speak(\"la\")", "cannot tell the kind of task"),
+    ("Task: Take the mug.; Plan: Grab it.; Solution: grab()", "nothing is approached before the first interaction"),
 ]
 
 
@@ -73,9 +88,9 @@ def _lines(path):
 @pytest.fixture(scope="module")
 def generated(tmp_path_factory):
     out = tmp_path_factory.mktemp("tasks") / "tasks.jsonl"
-    reply = json.dumps({"tasks": GOOD + [task for task, _ in BAD]})
+    reply = json.dumps({"tasks": GOOD + [text for text, _ in LEGENT_FORM] + [task for task, _ in BAD]})
     with ReplayServer([("reply", reply)]) as server:
-        assert _generate(server.url, out) == 0
+        assert _generate(server.url, out, n="30") == 0
     return out, server.requests
 
 
@@ -87,7 +102,7 @@ def test_the_llm_sees_the_object_table_and_writes_json(generated):
     system = body["messages"][0]["content"]
     assert "37 | laptop | " in system and "| desk (5) | yes" in system  # id | name | x y z | on | pickable
     assert "0 | bed | " in system and "| floor | no" in system
-    assert "Write 20 different tasks" in system
+    assert "Write 30 different tasks" in system
 
 
 def test_valid_tasks_are_kept_and_bad_ones_rejected_with_their_reason(generated):
@@ -95,10 +110,11 @@ def test_valid_tasks_are_kept_and_bad_ones_rejected_with_their_reason(generated)
     header, *records = _lines(out)
     assert header["format"] == "legent-gym-tasks" and header["prompt_version"] == TASK_PROMPT_VERSION
     assert [0, "bed"] in header["objects"]
-    assert len(records) == len(GOOD) + len(BAD)  # in the reply's order
-    kept, rejected = records[:len(GOOD)], records[len(GOOD):]
+    assert len(records) == len(GOOD) + len(LEGENT_FORM) + len(BAD)  # in the reply's order
+    kept, rejected = records[:len(GOOD) + len(LEGENT_FORM)], records[len(GOOD) + len(LEGENT_FORM):]
     assert all(r["status"] == "kept" for r in kept), [r.get("reason") for r in kept]
-    assert [r["kind"] for r in kept] == [t["kind"] for t in GOOD]
+    assert [r["kind"] for r in kept[:len(GOOD)]] == [t["kind"] for t in GOOD]
+    assert [(r["kind"], r["target"], r["receptacle"]) for r in kept[len(GOOD):]] == [e for _, e in LEGENT_FORM]
     for r in kept:
         assert 1 <= r["actions"] <= MAX_ACTIONS and 1 <= r["expert_actions"] <= MAX_ACTIONS
     for record, (_, phrase) in zip(rejected, BAD):
@@ -122,7 +138,7 @@ def test_custom_env_plays_the_file_and_the_expert_completes_every_kept_task(gene
                 break
         assert info["success"] and reward == 1.0, record
         done += 1
-    assert done == len(kept) == len(GOOD)  # 100%
+    assert done == len(kept) == len(GOOD) + len(LEGENT_FORM)  # 100%
     env.close()
 
 
