@@ -129,3 +129,31 @@ def test_the_annotated_asset_is_placed_by_the_generator_and_rendered(tmp_path):
         env.close()
     finally:
         registry.unregister(asset_id)
+
+
+def test_the_front_view_turns_the_asset_and_its_surfaces(tmp_path):
+    """A 0.8 (x) x 0.4 (depth) x 0.5 m table-like box: the VLM's front in view 1 turns it a
+    quarter, so its width and depth swap, in the annotation and in the registered model."""
+    import trimesh
+
+    path = tmp_path / "crate.glb"
+    # glTF frame: x width, y up, z depth (front +z).
+    trimesh.creation.box((0.8, 0.5, 0.4)).export(path)
+    with ReplayServer([("reply", json.dumps({**REPLY, "category": "crate", "front_view": 1}))]) as server:
+        assert _annotate(path, tmp_path / "crate.json", tmp_path / "cache", *_llm(server.url)) == 0
+    a = AssetAnnotation.model_validate_json((tmp_path / "crate.json").read_text())
+    assert a.yaw == 270.0
+    assert a.geometry.size == pytest.approx((0.4, 0.8, 0.5), abs=1e-3)
+    [top] = a.geometry.surfaces
+    assert top.height == pytest.approx(0.5, abs=1e-3) and top.half_size[1] > top.half_size[0]
+    asset_id = register_annotation(tmp_path / "crate.json", "annotated_crate")
+    try:
+        lo, hi = registry.describe(asset_id).bounds()
+        assert hi - lo == pytest.approx((0.4, 0.8, 0.5), abs=1e-3)
+        assert registry.describe(asset_id).receptacles[0].height == pytest.approx(0.5, abs=1e-3)
+    finally:
+        registry.unregister(asset_id)
+    # Without a VLM: not turned.
+    assert _annotate(path, tmp_path / "plain.json", tmp_path / "other-cache") == 0
+    plain = AssetAnnotation.model_validate_json((tmp_path / "plain.json").read_text())
+    assert plain.yaw == 0.0 and plain.geometry.size == pytest.approx((0.8, 0.4, 0.5), abs=1e-3)
