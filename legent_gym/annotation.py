@@ -396,3 +396,21 @@ def annotate_command(args: Any, user_error: type[Exception]) -> int:
         print(f"semantics: {s.name} ({s.category}), front in view {s.front_view} (turned {annotation.yaw:g} deg)")
     print(f"wrote {out}")
     return 0
+
+
+def register_annotation_files(paths: list[str] | None, user_error: type[Exception]) -> list[str]:
+    """``--asset FILE.asset.json`` of the CLI: register each annotated asset; a file that is
+    not an annotation raises ``user_error`` naming it."""
+    from pydantic import ValidationError
+
+    ids = []
+    for path in paths or []:
+        try:
+            ids.append(register_annotation(path, replace=True))
+        except OSError as err:
+            raise user_error(f"{path}: {err.strerror or err}") from None
+        except ValidationError as err:
+            from legent_gym.llm import describe_error
+
+            raise user_error(f"{path}: not an asset annotation: {describe_error(err)}") from None
+    return ids

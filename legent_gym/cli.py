@@ -7,9 +7,9 @@
     legent-gym asset annotate PATH.glb [--llm-base-url URL --model M] [--out asset.json] [--cache-dir DIR]
     legent-gym generate --preset TwoRoom --seed 3 --out house.json [--map house.png]
     legent-gym generate --preset TwoRoom --seed 0 --count 100 --out-dir houses/
-    legent-gym generate --plan plan.json --seed 0 --out house.json [--map house.png]
+    legent-gym generate --plan plan.json --seed 0 --out house.json [--map house.png] [--asset lamp.asset.json]
     legent-gym generate --prompt "a flat with a kitchen" --llm-base-url URL --model M [--timeout S] [--retries N] --out house.json
-    legent-gym tasks generate SCENE.json --n 20 --llm-base-url URL --model M [--timeout S] [--retries N] --out tasks.jsonl
+    legent-gym tasks generate SCENE.json --n 20 --llm-base-url URL --model M [--timeout S] [--retries N] --out tasks.jsonl [--asset A.asset.json]
     legent-gym collect ENV_ID --episodes N --out DIR [--format minari,legent,video] [--workers K] [--seed S]
         [--backend process|ray] [--ray-address auto|HOST:PORT]
     legent-gym play ENV_ID [--as user|agent] [--partner expert|random|llm] [--port P] [--size WxH] [--record DIR]
@@ -141,6 +141,10 @@ def cmd_generate(args) -> int:
 
     if not 0 <= args.seed <= MAX_SEED:
         raise UserError(f"--seed must be between 0 and {MAX_SEED}, got {args.seed}")
+    if args.asset:
+        from legent_gym.annotation import register_annotation_files
+
+        register_annotation_files(args.asset, UserError)
     if args.plan is not None or args.prompt is not None:
         from legent_gym.prompts import generate_scene
 
@@ -183,9 +187,11 @@ def cmd_generate(args) -> int:
 
 
 def cmd_tasks_generate(args) -> int:
+    from legent_gym.annotation import register_annotation_files
     from legent_gym.task_generation import generate_tasks
 
     _check_output(args.out)
+    register_annotation_files(args.asset, UserError)
     return generate_tasks(args, UserError)
 
 
@@ -284,6 +290,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--out-dir", help="directory for a batch")
     p.add_argument("--plan", help="build the house of a scene plan (JSON; see docs/llm.md) instead of a preset")
     p.add_argument("--prompt", help="ask an LLM for a plan of this description, build it, save the plan beside --out")
+    p.add_argument("--asset", action="append", help="register this annotated asset first (legent-gym asset "
+                                                    "annotate; repeatable): a plan may then name its category")
     add_llm_arguments(p)
     p.set_defaults(func=cmd_generate)
 
@@ -293,6 +301,7 @@ def build_parser() -> argparse.ArgumentParser:
                                                             "experts complete (see docs/llm.md)")
     p.add_argument("scene")
     p.add_argument("--n", type=int, default=20, help="tasks to ask for (default 20)")
+    p.add_argument("--asset", action="append", help="register this annotated asset first (a scene that uses it)")
     p.add_argument("--out", required=True, help="tasks file to write (JSON lines)")
     add_llm_arguments(p)
     p.set_defaults(func=cmd_tasks_generate)

@@ -157,3 +157,36 @@ def test_the_front_view_turns_the_asset_and_its_surfaces(tmp_path):
     assert _annotate(path, tmp_path / "plain.json", tmp_path / "other-cache") == 0
     plain = AssetAnnotation.model_validate_json((tmp_path / "plain.json").read_text())
     assert plain.yaw == 0.0 and plain.geometry.size == pytest.approx((0.8, 0.4, 0.5), abs=1e-3)
+
+
+@needs_samples
+def test_an_annotated_asset_goes_from_the_cli_into_a_plan_a_scene_and_generated_tasks(tmp_path, capsys):
+    """asset annotate -> generate --plan --asset -> tasks generate --asset: a task about the
+    annotated box is kept (its code and the expert complete it)."""
+    from legent_gym.world.scene import load_scene
+
+    with ReplayServer([("reply", json.dumps(REPLY))]) as server:
+        assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache", *_llm(server.url)) == 0
+    plan = {"version": 1, "rooms": [{"name": "living", "type": "living room", "size": 16, "objects": [
+        {"name": "box", "asset": "storage box", "relations": [{"kind": "against_wall"}]},
+        {"name": "apple", "on": "sofa"}, {"name": "sofa"}]}]}
+    (tmp_path / "plan.json").write_text(json.dumps(plan))
+    try:
+        assert main(["generate", "--plan", str(tmp_path / "plan.json"), "--asset", str(tmp_path / "box.json"),
+                     "--seed", "0", "--out", str(tmp_path / "scene.json")]) == 0
+        scene = load_scene(tmp_path / "scene.json")
+        [box] = [o.id for o in scene.objects if o.asset == "storage_box"]
+        [apple] = [o.id for o in scene.objects if o.asset == "apple"]
+        task = {"kind": "put", "instruction": "Put the apple on the storage box.", "target": apple,
+                "receptacle": box, "code": f"goto({apple}) target({apple}) interact() goto({box}) target({box}) "
+                                           "interact()"}
+        with ReplayServer([("reply", json.dumps({"tasks": [task]}))]) as server:
+            assert main(["tasks", "generate", str(tmp_path / "scene.json"), "--asset", str(tmp_path / "box.json"),
+                         "--n", "1", "--llm-base-url", server.url, "--model", "m", "--retries", "0",
+                         "--out", str(tmp_path / "tasks.jsonl")]) == 0
+        assert "storage box" in server.requests[0]["body"]["messages"][0]["content"]
+        [record] = [json.loads(line) for line in (tmp_path / "tasks.jsonl").read_text().splitlines()[1:]]
+        assert record["status"] == "kept", record
+    finally:
+        if registry.has("storage_box"):
+            registry.unregister("storage_box")

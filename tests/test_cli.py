@@ -359,6 +359,8 @@ BAD_TASKS = {
     "no model": (["--out", "t.jsonl"], "--model"),
     "out is a directory": (["--model", "m", "--out", "outdir"], "outdir"),
     "scene missing": (["--model", "m", "--out", "t.jsonl"], "missing.json"),
+    "asset annotation missing": (["--model", "m", "--out", "t.jsonl", "--asset", "nothere.asset.json"],
+                                 "nothere.asset.json: No such file"),
     "nothing listens": (["--model", "m", "--out", "t.jsonl", "--llm-base-url", "http://127.0.0.1:9/v1",
                          "--retries", "0", "--timeout", "2"], "Connection refused"),
 }
