@@ -27,7 +27,7 @@ tasks, on one machine or a cluster), :mod:`legent_gym.llm` (one client for any
 OpenAI-compatible chat endpoint, its JSON replies validated with pydantic),
 :mod:`legent_gym.prompts` (the LLM prompts, versioned; scenes from plans and prompts),
 :mod:`legent_gym.task_generation` (tasks for a scene written by an LLM, kept only if the
-experts complete them; ``LegentCustom-v0`` plays them), :mod:`legent_gym.annotation`
+experts complete them; ``Legent/Custom-v0`` plays them), :mod:`legent_gym.annotation`
 (glTF assets annotated: geometry computed, semantics from a VLM, registered for the
 generator and the tasks).
 """

@@ -13,7 +13,7 @@ by :func:`from_legent_text`). Each task is then checked, in order:
    scene (:func:`~legent_gym.experts.program.check_program`);
 3. its objects: in the scene; what is taken, brought or put can be picked up; for
    ``where`` and ``exist``, the receptacle is what the target stands on;
-4. the env (``LegentCustom-v0`` in the scene, from the scene's spawns): not done before
+4. the env (``Legent/Custom-v0`` in the scene, from the scene's spawns): not done before
    any action; its code, run by :class:`~legent_gym.experts.ProgramExecutor`, succeeds as
    its kind judges within :data:`~legent_gym.tasks.MAX_ACTIONS` actions; and so does the
    task expert (:class:`~legent_gym.experts.Expert`), so that every kept task has expert

@@ -1,5 +1,5 @@
 """`legent-gym tasks generate` against a real chat completions server on 127.0.0.1 that
-replays replies (tests/chat_server.py), and ``LegentCustom-v0`` playing the tasks file:
+replays replies (tests/chat_server.py), and ``Legent/Custom-v0`` playing the tasks file:
 every kept task is completed by the expert, every rejected one says why, and every failure
 of the endpoint is one line on stderr with no file written."""
 
@@ -124,7 +124,7 @@ def test_valid_tasks_are_kept_and_bad_ones_rejected_with_their_reason(generated)
 def test_custom_env_plays_the_file_and_the_expert_completes_every_kept_task(generated):
     out, _ = generated
     kept = [r for r in _lines(out)[1:] if r["status"] == "kept"]
-    env = ExpertInfo(gym.make("LegentCustom-v0", scene=str(SCENE), tasks=str(out),
+    env = ExpertInfo(gym.make("Legent/Custom-v0", scene=str(SCENE), tasks=str(out),
                               task_options={"order": "sequential"}, width=32, height=32))
     assert env.spec.max_episode_steps == MAX_ACTIONS
     done = 0
@@ -145,11 +145,11 @@ def test_custom_env_plays_the_file_and_the_expert_completes_every_kept_task(gene
 def test_custom_env_passes_check_env_and_draws_tasks_by_seed(generated):
     out, _ = generated
     for action_type in ("text", "continuous"):
-        env = gym.make("LegentCustom-v0", scene=str(SCENE), tasks=str(out), action_type=action_type,
+        env = gym.make("Legent/Custom-v0", scene=str(SCENE), tasks=str(out), action_type=action_type,
                        width=32, height=32)
         check_env(env.unwrapped, skip_render_check=True)
         env.close()
-    env = gym.make("LegentCustom-v0", scene=str(SCENE), tasks=str(out), width=32, height=32)
+    env = gym.make("Legent/Custom-v0", scene=str(SCENE), tasks=str(out), width=32, height=32)
     first = [env.reset(seed=s)[0]["instruction"] for s in range(12)]
     again = [env.reset(seed=s)[0]["instruction"] for s in range(12)]
     assert first == again and len(set(first)) > 2  # seeded: the same task; several tasks drawn
@@ -160,7 +160,7 @@ def test_custom_env_pickles_and_its_spec_round_trips(generated):
     import pickle
 
     out, _ = generated
-    env = gym.make("LegentCustom-v0", scene=str(SCENE), tasks=str(out), width=32, height=32)
+    env = gym.make("Legent/Custom-v0", scene=str(SCENE), tasks=str(out), width=32, height=32)
     obs, _ = env.reset(seed=4)
     clone = pickle.loads(pickle.dumps(env))
     assert clone.reset(seed=4)[0]["instruction"] == obs["instruction"]
@@ -173,7 +173,7 @@ def test_custom_env_pickles_and_its_spec_round_trips(generated):
 def test_collect_records_expert_episodes_of_the_generated_tasks(generated, tmp_path, capsys):
     out, _ = generated
     kwargs = json.dumps({"scene": str(SCENE), "tasks": str(out)})
-    assert main(["collect", "LegentCustom-v0", "--episodes", "4", "--out", str(tmp_path / "data"), "--format",
+    assert main(["collect", "Legent/Custom-v0", "--episodes", "4", "--out", str(tmp_path / "data"), "--format",
                  "legent", "--env-kwargs", kwargs, "--quiet"]) == 0
     assert "0 failed attempts, success rate 100.0%" in capsys.readouterr().out
 
@@ -181,14 +181,14 @@ def test_collect_records_expert_episodes_of_the_generated_tasks(generated, tmp_p
 def test_custom_env_refuses_another_scene_and_a_missing_one(generated, tmp_path):
     out, _ = generated
     with pytest.raises(ValueError, match="give scene="):
-        gym.make("LegentCustom-v0", tasks=str(out))
-    env = gym.make("LegentCustom-v0", scene=str(EXAMPLES / "one_room.json"), tasks=str(out))
+        gym.make("Legent/Custom-v0", tasks=str(out))
+    env = gym.make("Legent/Custom-v0", scene=str(EXAMPLES / "one_room.json"), tasks=str(out))
     with pytest.raises(ValueError, match="written for another scene"):
         env.reset(seed=0)
     empty = tmp_path / "none.jsonl"
     empty.write_text(out.read_text().splitlines()[0] + "\n")
     with pytest.raises(ValueError, match="no kept task"):
-        gym.make("LegentCustom-v0", scene=str(SCENE), tasks=str(empty))
+        gym.make("Legent/Custom-v0", scene=str(SCENE), tasks=str(empty))
 
 
 def _one_line_error(capsys, *needles):

@@ -103,7 +103,7 @@ class HouseholdEnv(gym.Env):
     ``max_episode_steps`` actions (25 by default, the paper's evaluation cap).
 
     ## Arguments
-    * ``task``: ComeHere, GoTo, PickUp, BringMe, WhereIs or PutOn; or Custom (``LegentCustom-v0``).
+    * ``task``: ComeHere, GoTo, PickUp, BringMe, WhereIs or PutOn; or Custom (``Legent/Custom-v0``).
     * ``tasks``: for Custom, a tasks file of the house given as ``scene`` (``legent-gym tasks generate``).
     * ``layout``: the generation preset of new houses: OneRoom, TwoRoom, FourRoom or
       Apartment.
@@ -144,7 +144,7 @@ class HouseholdEnv(gym.Env):
 
     ## Version History
     * v0: initial release; ``task_options``, ``houses``, ``episodes_per_house`` and
-      ``tasks`` (``LegentCustom-v0``) added later without changing any default episode.
+      ``tasks`` (``Legent/Custom-v0``) added later without changing any default episode.
     """
 
     metadata = {"render_modes": ["rgb_array", "depth_array"], "render_fps": 4}

@@ -1,7 +1,7 @@
 """Table-driven registration of every environment id (run on ``import legent_gym``).
 
 Ids are ``Legent/<Task>-<Layout>-v0`` for every task of :data:`legent_gym.tasks.TASKS` and
-every layout of :data:`LAYOUTS`, and ``LegentCustom-v0`` (:data:`SCENE_TASK_IDS`: tasks
+every layout of :data:`LAYOUTS`, and ``Legent/Custom-v0`` (:data:`SCENE_TASK_IDS`: tasks
 from a file, in a given scene), capped at :data:`legent_gym.tasks.MAX_ACTIONS` actions.
 Both action spaces come from the same id: ``gym.make(id)`` gives the text actions,
 ``gym.make(id, action_type="continuous")`` the Dict actions. Entry points are strings so
@@ -24,10 +24,9 @@ ID_TABLE: tuple[tuple[str, str, str], ...] = tuple((f"Legent/{task}-{layout}-v0"
                                                    for task in TASKS for layout in LAYOUTS)
 ENV_IDS: tuple[str, ...] = tuple(env_id for env_id, _, _ in ID_TABLE)
 #: (env id, task) of the ids whose tasks are read from a file for one scene: they take
-#: ``scene=`` and ``tasks=`` (see :mod:`legent_gym.tasks.custom`), so they are neither among
-#: :data:`ENV_IDS` nor in the ``Legent/`` namespace, whose every id makes an env with no
-#: arguments.
-SCENE_TASK_IDS: tuple[tuple[str, str], ...] = (("LegentCustom-v0", "Custom"),)
+#: ``scene=`` and ``tasks=`` (see :mod:`legent_gym.tasks.custom`), so they are not among
+#: :data:`ENV_IDS`, whose every id makes an env with no arguments.
+SCENE_TASK_IDS: tuple[tuple[str, str], ...] = (("Legent/Custom-v0", "Custom"),)
 
 
 def id_kwargs(env_id: str) -> dict[str, str]:
