@@ -4,13 +4,10 @@ API: good replies, malformed ones, errors, rate limits and slow replies."""
 from __future__ import annotations
 
 import base64
-import contextlib
 import io
 import json
 import socket
-import threading
 import time
-from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 
 import gymnasium as gym
 import numpy as np
@@ -26,84 +23,15 @@ from baselines.llm_agent import (
     main,
 )
 from legent_gym.agent.actions import ActionParseError
+from tests.chat_server import ReplayServer
 
 ENV_ID = "Legent/ComeHere-OneRoom-v0"
 
 
-class FakeChatServer:
-    """A chat completions endpoint on an ephemeral port. Each request takes the next
-    behaviour from ``script`` (then ``default``); every request is recorded."""
-
-    def __init__(self, script=(), default=("reply", "rotate_right(45)")):
-        self.script, self.default = list(script), default
-        self.requests: list[dict] = []
-        self.lock = threading.Lock()
-        server = self
-
-        class Handler(BaseHTTPRequestHandler):
-            def setup(self):
-                super().setup()
-                self.connection.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
-
-            def log_message(self, *args):
-                pass
-
-            def do_POST(self):
-                body = json.loads(self.rfile.read(int(self.headers["Content-Length"])))
-                with server.lock:
-                    server.requests.append({"path": self.path, "headers": {k.lower(): v for k, v in self.headers.items()}, "body": body,
-                                            "time": time.monotonic()})
-                    behaviour = server.script.pop(0) if server.script else server.default
-                with contextlib.suppress(BrokenPipeError, ConnectionResetError):
-                    self.answer(*behaviour)  # a broken pipe: the client gave up waiting (a timeout)
-
-            def answer(self, kind, *args):
-                if kind == "reply":
-                    self.send(200, json.dumps(_completion(args[0])).encode())
-                elif kind == "slow":
-                    time.sleep(args[0])
-                    self.send(200, json.dumps(_completion(args[1])).encode())
-                elif kind == "status":
-                    code, headers = args[0], (args[1] if len(args) > 1 else {})
-                    error = {"error": {"message": f"test error {code}", "type": "server_error", "code": None}}
-                    self.send(code, json.dumps(error).encode(), headers)
-                elif kind == "not_json":
-                    self.send(200, b"<html>upstream proxy error</html>", content_type="text/html")
-                elif kind == "bad_json":
-                    self.send(200, b'{"choices": [')
-                elif kind == "no_choices":
-                    self.send(200, json.dumps({"id": "x", "object": "chat.completion", "created": 0,
-                                               "model": "m"}).encode())
-                else:
-                    raise AssertionError(f"unknown behaviour {kind}")
-
-            def send(self, code, data, headers=None, content_type="application/json"):
-                self.send_response(code)
-                self.send_header("Content-Type", content_type)
-                self.send_header("Content-Length", str(len(data)))
-                for key, value in (headers or {}).items():
-                    self.send_header(key, value)
-                self.end_headers()
-                self.wfile.write(data)
-
-        self.httpd = ThreadingHTTPServer(("127.0.0.1", 0), Handler)
-        self.httpd.daemon_threads = True
-        self.url = f"http://127.0.0.1:{self.httpd.server_port}/v1"
-
-    def __enter__(self):
-        threading.Thread(target=self.httpd.serve_forever, daemon=True).start()
-        return self
-
-    def __exit__(self, *exc):
-        self.httpd.shutdown()
-        self.httpd.server_close()
-
-
-def _completion(text):
-    return {"id": "chatcmpl-test", "object": "chat.completion", "created": 0, "model": "test-vlm",
-            "choices": [{"index": 0, "finish_reason": "stop",
-                         "message": {"role": "assistant", "content": text}}],
-            "usage": {"prompt_tokens": 1, "completion_tokens": 1, "total_tokens": 2}}
+def FakeChatServer(script=(), default=("reply", "rotate_right(45)")):  # noqa: N802 (used as a class)
+    """The shared replay server (tests/chat_server.py) answering ``default`` once ``script``
+    is used up."""
+    return ReplayServer(script, default)
 
 
 def _agent(server, **kwargs):
@@ -238,7 +166,8 @@ def test_extract_action_reports_the_parse_error():
 
 
 def test_malformed_answers_are_retried():
-    script = [("not_json",), ("no_choices",), ("bad_json",), ("reply", "move_forward(1)")]
+    script = [("raw", b"<html>upstream proxy error</html>"), ("no_choices",), ("raw", b'{"choices": ['),
+              ("reply", "move_forward(1)")]
     with FakeChatServer(script) as server:
         agent = _agent(server, max_retries=3)
         agent.reset("Come here.")
