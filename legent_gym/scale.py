@@ -35,8 +35,8 @@ from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["BACKENDS", "Backend", "BackendUnavailable", "RAY_TASK_RETRIES", "connect_ray", "ray_results",
-           "require_ray"]
+__all__ = ["BACKENDS", "Backend", "BackendUnavailable", "RAY_TASK_RETRIES", "connect_ray", "in_call_order",
+           "ray_results", "require_ray"]
 
 BACKENDS = ("process", "ray")
 #: How often a Ray task runs again after its worker process died.
@@ -122,6 +122,26 @@ def _task(ray: Any) -> Any:
     return _remote
 
 
+def in_call_order(calls: Iterable[tuple], limit: int, submit: Callable[[tuple], Any],
+                  wait_first: Callable[[deque], None], result: Callable[[Any], Any],
+                  pending: deque) -> Generator[Any, None, None]:
+    """The ordered map of both backends: ``submit(call)`` keeps at most ``limit`` calls in
+    flight in ``pending`` (the caller's, so that its clean-up sees what is left), and the
+    results are yielded in call order: ``wait_first(pending)`` waits for the first (raising a
+    later call's error at once) and ``result`` takes it."""
+    calls = iter(calls)
+    while True:
+        while len(pending) < limit:
+            call = next(calls, None)
+            if call is None:
+                break
+            pending.append(submit(tuple(call)))
+        if not pending:
+            return
+        wait_first(pending)
+        yield result(pending.popleft())
+
+
 def ray_results(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int,
                 initializer: Callable[..., Any] | None, initargs: tuple, ahead: int,
                 address: str | None) -> Generator[Any, None, None]:
@@ -131,18 +151,9 @@ def ray_results(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int,
     task = _task(ray)
     setup = ray.put((uuid.uuid4().hex, fn, initializer, initargs))
     pending: deque = deque()
-    calls = iter(calls)
     try:
-        while True:
-            while len(pending) < ahead * workers:
-                call = next(calls, None)
-                if call is None:
-                    break
-                pending.append(task.remote(setup, tuple(call)))
-            if not pending:
-                break
-            _wait_for_first(ray, pending)
-            yield _get(ray, pending.popleft())
+        yield from in_call_order(calls, ahead * workers, lambda call: task.remote(setup, call),
+                                 lambda waiting: _wait_for_first(ray, waiting), lambda ref: _get(ray, ref), pending)
     finally:
         # Results nobody will read: a task not started is dropped, a running one is
         # interrupted (KeyboardInterrupt in its worker, which stays for the next tasks).

@@ -37,7 +37,7 @@ from collections.abc import Callable, Generator, Iterable, Iterator, Sized
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
-from legent_gym.scale import Backend, ray_results
+from legent_gym.scale import Backend, in_call_order, ray_results
 
 __all__ = ["map_ordered", "mp_context"]
 
@@ -118,19 +118,10 @@ def _in_workers(fn, calls, workers, initializer, initargs, ahead, pin) -> Genera
     pool = ProcessPoolExecutor(workers, mp_context=ctx, initializer=_start_worker,
                                initargs=(os.getpid(), crew, initializer, initargs))
     pending: deque = deque()
-    calls = iter(calls)
     finished = False
     try:
-        while True:
-            while len(pending) < ahead * workers:
-                call = next(calls, None)
-                if call is None:
-                    break
-                pending.append(pool.submit(_call, fn, tuple(call)))
-            if not pending:
-                break
-            _wait_for_first(pending)
-            yield pending.popleft().result()
+        yield from in_call_order(calls, ahead * workers, lambda call: pool.submit(_call, fn, call), _wait_for_first,
+                                 lambda future: future.result(), pending)
         finished = True
     finally:
         if finished:
