@@ -10,12 +10,16 @@ relations to other objects of the room: ``near``, ``far``, ``against_wall``, ``m
 :func:`solve_plan` builds the house with the generator's parts: a floor plan grown on the
 grid with the rooms' sizes (the plan whose requested doors can be made is kept), doors
 (a spanning tree, then the requested pairs), windows, then per room a depth-first search
-over candidate poses (wall, corner and free-floor poses, and poses around each relation's
-target), best soft score first (one point per relation met, partial credit by distance),
-under hard constraints (inside the room, no overlap, door squares and front zones clear,
-the room walkable between its doors with every piece in reach). Surface furniture (a tv)
-and small objects go on the receptacles of what they are ``on`` (else on any surface of the
-room). The finished scene passes :func:`~legent_gym.world.generation.validate.check_house`.
+over candidate poses (wall, corner and free-floor poses, and poses beside, ahead of and
+against the wall next to each relation's target), best soft score first (one point per
+relation met, partial credit by distance), under hard constraints (inside the room, no
+overlap, door squares and front zones clear, the room walkable between its doors with every
+piece in reach). The search first looks for a layout meeting every relation (forward
+checking, backtracking); the first :data:`STRICT_ATTEMPTS` houses are given up when a room
+has none, later ones keep the best soft score instead. Surface furniture (a tv) and small
+objects go on the receptacles of what they are ``on`` (else on any surface of the room); a
+piece that planned small objects stand on gets an asset with a surface they fit. The
+finished scene passes :func:`~legent_gym.world.generation.validate.check_house`.
 
 Nothing is silently ignored: a name that is no asset category is mapped to the nearest
 one (``SolveReport.mapped``) or dropped (``SolveReport.warnings``); an object that fits
@@ -33,6 +37,7 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
+from legent_gym.world.assets import registry
 from legent_gym.world.generation.conditions import Catalog, GenerationError, normalise_name
 from legent_gym.world.generation.floorplan import (
     FloorPlan,
@@ -43,7 +48,7 @@ from legent_gym.world.generation.floorplan import (
     place_windows,
     plan_grid,
 )
-from legent_gym.world.generation.furnish import SUPPORTS, Furnisher, RoomSpace
+from legent_gym.world.generation.furnish import SUPPORTS, WALL_GAP, Furnisher, RoomSpace
 from legent_gym.world.generation.house import (
     REACH,
     AttemptFailed,
@@ -53,9 +58,14 @@ from legent_gym.world.generation.house import (
     scene_rooms,
 )
 from legent_gym.world.generation.roomtypes import ROOM_TYPES, ROOM_WORDS, room_type_of
-from legent_gym.world.generation.small_objects import SmallObjectPlacer, receptacle_corners
+from legent_gym.world.generation.small_objects import (
+    SmallObjectPlacer,
+    open_receptacle,
+    receptacle_corners,
+)
 from legent_gym.world.generation.surfaces_and_lights import ceiling_light, light_point
 from legent_gym.world.generation.validate import check_house
+from legent_gym.world.geometry import local_footprint, turned_rect
 from legent_gym.world.navigation import DEFAULT_AGENT_RADIUS, DEFAULT_RESOLUTION, NavGrid
 from legent_gym.world.scene import Scene, Spawn
 
@@ -80,7 +90,11 @@ CELL_RANGE = (2.0, 2.6)
 WALL_HEIGHT = 3.0
 DFS_BRANCH = 3  # candidates tried per object before backtracking
 DFS_BUDGET = 60  # commits per room before the search turns greedy
+SUPPORT_PICKS = 8  # assets tried for a piece that planned small objects stand on
+SMALL_TRIES = 12  # assets tried for a small object on the piece the plan names
+STRICT_BUDGET = 60  # commits per room of the search that meets every relation
 ATTEMPTS = 6  # tries at a valid house
+STRICT_ATTEMPTS = 3  # of which the first ones give up on a room that misses a relation
 BUILT_ATTEMPTS = 3  # valid houses built before the one that lacks the fewest planned things is kept
 
 
@@ -327,6 +341,67 @@ def _measure_text(kind: str, value: float) -> str:
 
 
 # ---------------------------------------------------------------------------------------
+# Candidate poses around a target (footprints: ``turned[q]`` is a piece's footprint about
+# its origin at quarter turn q)
+
+
+def _beside(t: np.ndarray, turned: np.ndarray, gaps: np.ndarray) -> np.ndarray:
+    """Poses (N, 4) beside each side of rectangle ``t``, ``gaps`` away from it, centred on
+    the side or flush with either end of it, at every quarter turn."""
+    out = []
+    for q in range(4):
+        lx0, ly0, lx1, ly1 = turned[q]
+        along_y = [t[1] - ly0, t[3] - ly1, (t[1] + t[3] - ly0 - ly1) / 2]
+        along_x = [t[0] - lx0, t[2] - lx1, (t[0] + t[2] - lx0 - lx1) / 2]
+        for g in gaps:
+            out += [(t[2] + g - lx0, y, q) for y in along_y] + [(t[0] - g - lx1, y, q) for y in along_y]
+            out += [(x, t[3] + g - ly0, q) for x in along_x] + [(x, t[1] - g - ly1, q) for x in along_x]
+    a = np.asarray(out, dtype=np.float64)
+    return np.column_stack([a, np.zeros(len(a))])
+
+
+def _ahead(t: np.ndarray, tq: int, turned: np.ndarray, bbox: np.ndarray) -> np.ndarray:
+    """Poses (N, 4) centred on the front ray of rectangle ``t`` (quarter turn ``tq``),
+    every 0.3 m to the far side of ``bbox``, at every quarter turn."""
+    d = front_dirs(np.array([tq * 90.0]))[0]
+    c = np.array([(t[0] + t[2]) / 2, (t[1] + t[3]) / 2])
+    reach = float(np.hypot(bbox[2] - bbox[0], bbox[3] - bbox[1]))
+    steps = np.arange(0.6, reach, 0.3)
+    pts = c[None, :] + steps[:, None] * d[None, :]
+    out = []
+    for q in range(4):
+        lx0, ly0, lx1, ly1 = turned[q]
+        out.append(np.column_stack([pts[:, 0] - (lx0 + lx1) / 2, pts[:, 1] - (ly0 + ly1) / 2,
+                                    np.full(len(pts), q), np.zeros(len(pts))]))
+    return np.concatenate(out)
+
+
+def _to_wall(poses: np.ndarray, turned: np.ndarray, space: RoomSpace) -> np.ndarray:
+    """``poses`` (N, 4) moved straight back against each wall face they look onto within a
+    metre (the same gap to the wall as the furnisher's wall poses)."""
+    q = poses[:, 2].astype(np.int64) % 4
+    rects = np.column_stack([poses[:, 0], poses[:, 1], poses[:, 0], poses[:, 1]]) + turned[q]
+    out = []
+    for p0, e, n, length, _, _ in space.edges():
+        p1 = p0 + e * length
+        if abs(n[0]) > 0.5:  # a wall along y: x = p0[0]
+            lo, hi = min(p0[1], p1[1]), max(p0[1], p1[1])
+            over = (rects[:, 3] > lo) & (rects[:, 1] < hi)
+            d = rects[:, 0] - p0[0] if n[0] > 0 else p0[0] - rects[:, 2]
+            shift = np.column_stack([-np.sign(n[0]) * (d - WALL_GAP), np.zeros(len(d))])
+        else:  # a wall along x: y = p0[1]
+            lo, hi = min(p0[0], p1[0]), max(p0[0], p1[0])
+            over = (rects[:, 2] > lo) & (rects[:, 0] < hi)
+            d = rects[:, 1] - p0[1] if n[1] > 0 else p0[1] - rects[:, 3]
+            shift = np.column_stack([np.zeros(len(d)), -np.sign(n[1]) * (d - WALL_GAP)])
+        pick = over & (d > WALL_GAP + 1e-6) & (d < 1.0)
+        moved = poses[pick].copy()
+        moved[:, :2] += shift[pick]
+        out.append(moved)
+    return np.concatenate(out) if out else np.zeros((0, 4))
+
+
+# ---------------------------------------------------------------------------------------
 # The solver
 
 
@@ -366,9 +441,33 @@ def _order(items: list[_Item]) -> list[_Item]:
     return out
 
 
+def _floor_order(items: list[_Item]) -> list[_Item]:
+    """The order in which the search places a room's floor pieces: a piece that others
+    refer to, then at once the pieces whose targets are all placed (most relations
+    first), and the pieces that refer to nothing last (they fit along any free wall)."""
+    out: list[_Item] = []
+    pending = list(items)
+    names = {i.name for i in items}
+    targets = {r.target for i in items for r in i.relations if r.target}
+    while pending:
+        placed = {i.name for i in out}
+        waiting = {i.name for i in pending}
+        ready = [i for i in pending if _needs(i) & names and (_needs(i) & names) - {i.name} <= placed - waiting]
+        if ready:
+            pick = max(ready, key=lambda i: len(i.relations))
+        else:
+            gates = [i for i in pending if i.name in targets]
+            free = [i for i in gates if not ((_needs(i) & names) - {i.name}) - placed]
+            pick = (free or gates or pending)[0]
+        out.append(pick)
+        pending.remove(pick)
+    return out
+
+
 class _Solver:
     def __init__(self, plan: ScenePlan, seed: int, catalog: Catalog, report: SolveReport):
         self.plan, self.seed, self.catalog, self.report = plan, seed, catalog, report
+        self._sizes: dict[str, np.ndarray] = {}
         self.types: list[str] = []
         for room in plan.rooms:
             rtype, guessed = resolve_room_type(room.type)
@@ -452,6 +551,11 @@ class _Solver:
     # -- furniture -------------------------------------------------------------------
     def candidates(self, f: Furnisher, space: RoomSpace, item: _Item, model: Any,
                    rng: np.random.Generator) -> np.ndarray:
+        """Candidate poses (N, 4: x, y, quarter turns, preference): the furnisher's wall,
+        corner and free-floor poses; a grid over the room for ``middle``; around each placed
+        target, poses beside each of its sides (several gaps, centred or flush with either
+        end of the side, every turn) and along its front ray; for ``against_wall``, each of
+        these also pushed against the nearest wall face behind it."""
         poses = [f.anchor_poses(space, model)]
         if any(r.kind == "middle" for r in item.relations):  # a grid over the room, every 0.3 m
             bb = space.bbox
@@ -459,18 +563,20 @@ class _Solver:
             n = gx.size
             poses.append(np.column_stack([np.tile(gx.ravel(), 4), np.tile(gy.ravel(), 4),
                                           np.repeat(np.arange(4), n), np.zeros(4 * n)]))
-        for target in self.targets_of(f, item):
-            t = f.pieces[target].rect
-            cx, cy = (t[0] + t[2]) / 2, (t[1] + t[3]) / 2
-            half = max(model.size[0], model.size[1]) / 2
+        targets = self.targets_of(f, item)
+        if targets:
+            local = local_footprint(model)
+            turned = np.array([turned_rect(local, q) for q in range(4)])  # (4, 4) per quarter turn
+            gaps = np.array([space.margin + 0.03, space.margin + 0.3, 0.75])
             out = []
-            for gap in (0.2, 0.6):
-                for dx, dy in ((0, 1), (0, -1), (1, 0), (-1, 0)):
-                    for lateral in (-0.3, 0.0, 0.3):
-                        x = cx + dx * ((t[2] - t[0]) / 2 + gap + half) + dy * lateral * (t[2] - t[0])
-                        y = cy + dy * ((t[3] - t[1]) / 2 + gap + half) + dx * lateral * (t[3] - t[1])
-                        out += [(x, y, q, 0.0) for q in range(4)]
-            poses.append(np.asarray(out, dtype=np.float64))
+            for target in targets:
+                t = f.pieces[target].rect
+                out.append(_beside(t, turned, gaps))
+                out.append(_ahead(t, f.pieces[target].q, turned, space.bbox))
+            near = np.concatenate(out)
+            poses.append(near)
+            if any(r.kind == "against_wall" for r in item.relations):
+                poses.append(_to_wall(near, turned, space))
         return np.concatenate(poses) if poses else np.zeros((0, 4))
 
     def targets_of(self, f: Furnisher, item: _Item) -> list[int]:
@@ -478,74 +584,181 @@ class _Solver:
         return [i.piece for i in self.items[item.room] if i.name in names and i.piece is not None
                 and f.pieces[i.piece].on_floor]
 
-    def scores(self, f: Furnisher, space: RoomSpace, item: _Item, rects: np.ndarray, qs: np.ndarray) -> np.ndarray:
+    def scores(self, f: Furnisher, space: RoomSpace, item: _Item, rects: np.ndarray,
+               qs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Per candidate: the soft score (the credit of each relation) and whether every
+        relation that can be measured now (its target placed) holds."""
         total = np.zeros(len(rects))
+        met = np.ones(len(rects), dtype=bool)
         yaws = qs * 90.0
         for rel in item.relations:
             if rel.kind in TARGETED:
-                targets = [i for i in self.items[item.room] if i.name == rel.target and i.piece is not None]
+                targets = [i for i in self.items[item.room] if i.name == rel.target and i.piece is not None
+                           and i is not item]
                 if not targets:
                     continue
                 best = np.zeros(len(rects))
+                holds = np.zeros(len(rects), dtype=bool)
                 for t in targets:
                     p = f.pieces[t.piece]  # type: ignore[index]
-                    best = np.maximum(best, _credit(relation_scores(rel.kind, rects, yaws, space.inner,
-                                                                    (p.rect, p.yaw_deg))))
+                    scored = relation_scores(rel.kind, rects, yaws, space.inner, (p.rect, p.yaw_deg))
+                    best = np.maximum(best, _credit(scored))
+                    holds |= scored[0]
                 total += best
+                met &= holds
             else:
-                total += _credit(relation_scores(rel.kind, rects, yaws, space.inner, None))
-        return total
+                scored = relation_scores(rel.kind, rects, yaws, space.inner, None)
+                total += _credit(scored)
+                met &= scored[0]
+        return total, met
 
-    def furnish_room(self, f: Furnisher, space: RoomSpace, rng: np.random.Generator) -> None:
-        floor = [i for i in _order(self.items[space.index]) if self.is_floor(i.category)]
-        picks = [f.pick(i.category) for i in floor]
-        budget = [DFS_BUDGET]
+    def pick(self, f: Furnisher, item: _Item) -> tuple[str, int, Any]:
+        """An asset for a floor piece: for a piece that planned small objects stand on,
+        one (of a few picks) with an open surface that each of their categories fits."""
+        first = f.pick(item.category)
+        cats = {i.category for i in self.items[item.room] if i.on == item.name and self.catalog.is_small(i.category)}
+        if not cats:
+            return first
+        pick = first
+        for _ in range(SUPPORT_PICKS):
+            if all(self.fits(pick[2], c) for c in cats):
+                return pick
+            pick = f.pick(item.category)
+        return first
 
-        def options(k: int) -> list[tuple[float, float, int, np.ndarray, np.ndarray]]:
+    def fits(self, model: Any, category: str) -> bool:
+        """Whether some model of a small category (a sample of its assets' variants) fits
+        an open receptacle of ``model`` (footprint and clearance)."""
+        if category not in self._sizes:
+            ids = self.catalog.by_category[category]
+            self._sizes[category] = np.array([registry.make(a, v).size for a in ids for v in (0, 250, 500, 750)])
+        sizes = self._sizes[category]
+        for rec in model.receptacles:
+            if not open_receptacle(model, rec):
+                continue
+            room = 2 * np.asarray(rec.half_size) - 0.02
+            if ((sizes[:, 0] <= room[0]) & (sizes[:, 1] <= room[1]) & (sizes[:, 2] <= rec.clearance)).any():
+                return True
+        return False
+
+    def furnish_room(self, f: Furnisher, space: RoomSpace, rng: np.random.Generator, strict_only: bool = False) -> bool:
+        """Place the room's floor furniture: first a depth-first search in which every
+        piece meets each of its relations whose target is already placed (targets come
+        first), with forward checking (a placement that leaves a later piece no pose meeting
+        its relations is not taken) and backjumping to the target of a piece that cannot
+        meet its relations; if that search runs out of its budget, a search that only keeps
+        the hard constraints, best soft score first (what it misses is reported)."""
+        floor = _floor_order([i for i in self.items[space.index] if self.is_floor(i.category)])
+        picks = [self.pick(f, i) for i in floor]
+        noise = [rng.random(4096) for _ in floor]  # the same tie-breaking for each look at a level
+        level: dict[str, list[int]] = {}
+        for k, i in enumerate(floor):
+            level.setdefault(i.name, []).append(k)
+        # Levels whose pieces a piece's relations refer to, and the later pieces that refer to it.
+        refs = [sorted({j for r in i.relations if r.target for j in level.get(r.target, []) if j < k})
+                for k, i in enumerate(floor)]
+        # The later pieces with relations to pieces all placed once k is (forward checking).
+        checked = [[j for j in range(k + 1, len(floor)) if refs[j] and refs[j][-1] <= k] for k in range(len(floor))]
+        cache: dict[tuple, list] = {}
+
+        def self_pose(j: int) -> tuple[float, float, int]:
+            return f.pieces[j].x, f.pieces[j].y, f.pieces[j].q
+
+        def options(k: int) -> list[tuple[float, float, int, np.ndarray, np.ndarray, bool]]:
+            key = (k, tuple((j, self_pose(j)) for j in space.pieces))
+            if key in cache:
+                return cache[key]
             item, (asset, variant, model) = floor[k], picks[k]
             poses = self.candidates(f, space, item, model, rng)
-            if len(poses) == 0:
-                return []
-            xs, ys, qs = poses[:, 0], poses[:, 1], poses[:, 2].astype(np.int64)
-            rects, fronts = f.footprints(item.category, asset, variant, model, xs, ys, qs)
-            ok = f.valid(space, rects, fronts, np.array([model.size[2]]))
-            idx = np.nonzero(ok)[0]
-            if len(idx) == 0:
-                return []
-            score = self.scores(f, space, item, rects[idx, 0], qs[idx] % 4) + 0.05 * poses[idx, 3] / 10.0
-            score += 0.01 * rng.random(len(idx))
-            order = idx[np.argsort(-score, kind="stable")]
-            return [(float(xs[c]), float(ys[c]), int(qs[c]) % 4, rects[c, 0], fronts[c, 0]) for c in order]
+            out: list[tuple[float, float, int, np.ndarray, np.ndarray, bool]] = []
+            if len(poses):
+                xs, ys, qs = poses[:, 0], poses[:, 1], poses[:, 2].astype(np.int64)
+                rects, fronts = f.footprints(item.category, asset, variant, model, xs, ys, qs)
+                ok = f.valid(space, rects, fronts, np.array([model.size[2]]))
+                idx = np.nonzero(ok)[0]
+                if len(idx):
+                    score, met = self.scores(f, space, item, rects[idx, 0], qs[idx] % 4)
+                    score = score + 0.05 * poses[idx, 3] / 10.0 + 0.01 * noise[k][idx % len(noise[k])]
+                    rank = np.argsort(-score, kind="stable")
+                    out = [(float(xs[idx[c]]), float(ys[idx[c]]), int(qs[idx[c]]) % 4, rects[idx[c], 0],
+                            fronts[idx[c], 0], bool(met[c])) for c in rank]
+            cache[key] = out
+            return out
 
         def place(k: int, pose) -> bool:
             item, (asset, variant, model) = floor[k], picks[k]
-            x, y, q, rect, front = pose
+            x, y, q, rect, front, _ = pose
             item.piece = f.add_piece(space, item.category, asset, variant, model, x, y, q, rect, front)
             if f.room_ok(space):
                 return True
-            f.remove_last(space)
-            item.piece = None
+            unplace(k)
             return False
+
+        def unplace(k: int) -> None:
+            f.remove_last(space)
+            floor[k].piece = None
+
+        def forward_ok(k: int) -> bool:
+            """Each later piece whose targets are all placed once k is still has a pose
+            meeting its relations."""
+            return all(any(o[5] for o in options(j)) for j in checked[k])
+
+        budget = [STRICT_BUDGET]
+
+        def strict(k: int) -> int:
+            """len(floor) when levels k.. are placed with their relations met; else the
+            level (< k) to go back to."""
+            if k == len(floor):
+                return k
+            back = k - 1
+            tried = 0
+            for pose in options(k):
+                if not pose[5]:
+                    break  # the rest miss a relation too (met ones rank first)
+                if tried >= DFS_BRANCH or budget[0] <= 0:
+                    break
+                budget[0] -= 1
+                if not place(k, pose):
+                    continue
+                if not forward_ok(k):
+                    unplace(k)
+                    continue
+                tried += 1
+                jump = strict(k + 1)
+                if jump == len(floor):
+                    return jump
+                unplace(k)
+                if jump < k:
+                    return jump
+            return back
+
+        if strict(0) == len(floor):
+            return True
+        for k in range(len(floor) - 1, -1, -1):  # take back a partial placement
+            if floor[k].piece is not None:
+                unplace(k)
+        if strict_only:
+            return False
+        loose = [DFS_BUDGET]
 
         def dfs(k: int) -> bool:
             if k == len(floor):
                 return True
             tried = 0
             for pose in options(k):
-                if tried >= DFS_BRANCH or budget[0] <= 0:
+                if tried >= DFS_BRANCH or loose[0] <= 0:
                     break
-                budget[0] -= 1
+                loose[0] -= 1
                 if not place(k, pose):
                     continue
                 tried += 1
                 if dfs(k + 1):
                     return True
-                f.remove_last(space)
-                floor[k].piece = None
+                unplace(k)
             return False
 
         if dfs(0):
-            return
+            return False
         # Greedy, dropping what fits nowhere (reported).
         for k, item in enumerate(floor):
             for pose in options(k)[:6]:
@@ -554,6 +767,7 @@ class _Solver:
             else:
                 self.report.unmet.append(f"{item.key}: no room for a {item.category} in room "
                                          f"{self.plan.rooms[item.room].name!r} (copy {item.index + 1})")
+        return False
 
     def is_floor(self, category: str) -> bool:
         return self.catalog.is_furniture(category) and self.catalog.describe(category).placement != "surface"
@@ -591,7 +805,7 @@ class _Solver:
                 done = False
                 for pool in pools:
                     for s in pool:
-                        if placer.put(s, item.category):
+                        if placer.put(s, item.category, tries=SMALL_TRIES):
                             item.small = len(placer.placed) - 1
                             done = True
                             break
@@ -605,13 +819,17 @@ class _Solver:
                                              "of the room")
 
     # -- one attempt ------------------------------------------------------------------
-    def attempt(self, rng: np.random.Generator) -> tuple[Scene, list[str]]:
+    def attempt(self, rng: np.random.Generator, strict: bool = False) -> tuple[Scene, list[str]]:
+        """One house. ``strict``: give up (:class:`_AttemptFailed`) as soon as a room's
+        furniture cannot meet every relation, rather than place it missing some."""
         for items in self.items:
             for item in items:
                 item.piece = item.small = None
         fp, missing, f = self.floor_plan(rng)
         for space in f.spaces:
-            self.furnish_room(f, space, rng)
+            if not self.furnish_room(f, space, rng, strict_only=strict) and strict:
+                raise _AttemptFailed(f"room {self.plan.rooms[space.index].name!r}: no layout meeting every relation "
+                                     "found in the search budget")
         self.surface_furniture(f)
         rooms = scene_rooms(fp, rng)
         lights = [ceiling_light(light_point(p), WALL_HEIGHT) for p in fp.polygons]
@@ -685,12 +903,12 @@ def solve_plan(plan: ScenePlan | dict, seed: int = 0, catalog: Catalog | None = 
     master = np.random.default_rng(int(seed))
     best: tuple[tuple[int, int], SolvedScene] | None = None
     tries = 0
-    for _ in range(ATTEMPTS):
+    for k in range(ATTEMPTS):
         report = SolveReport()
         solver = _Solver(plan, int(seed), catalog, report)
         rng = master.spawn(1)[0]
         try:
-            scene, unmet = solver.attempt(rng)
+            scene, unmet = solver.attempt(rng, strict=k < STRICT_ATTEMPTS)
         except _AttemptFailed as err:
             last = str(err)
             continue
@@ -700,7 +918,7 @@ def solve_plan(plan: ScenePlan | dict, seed: int = 0, catalog: Catalog | None = 
         cost = (sum(" measured " not in u for u in report.unmet), len(report.unmet))
         if best is None or cost < best[0]:
             best = (cost, SolvedScene(scene, report))
-        if cost[0] == 0 or tries >= BUILT_ATTEMPTS:
+        if not report.unmet or tries >= BUILT_ATTEMPTS:
             break
     if best is None:
         raise GenerationError(f"no valid house for the plan in {ATTEMPTS} attempts (last: {last})")
