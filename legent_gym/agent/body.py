@@ -13,6 +13,13 @@ camera along the view axis picks what the agent looks at. Every interaction retu
 Reach: an interaction succeeds only if the point the agent looks at is within
 ``reach`` metres (default 1.5) of the agent's centre, measured horizontally, and within
 ``2 * reach`` along the view ray.
+
+The body is drawn as a humanoid (:mod:`legent_gym.world.humanoid`) that its
+:class:`~legent_gym.agent.motion.Animator` poses after every change: the walk cycle when it
+moved, the head's pitch, the right arm reaching for what an interaction aimed at (also when
+the interaction failed: the arm shows the attempt), both hands on what it carries. Each
+step's poses are kept in :attr:`Body.motion` for environments that show the frames in
+between (``frames_per_step``).
 """
 
 from __future__ import annotations
@@ -25,7 +32,9 @@ import mujoco
 import numpy as np
 
 from legent_gym.agent.clearance import ClearanceMap
+from legent_gym.agent.motion import Animator, IKSolution, Keyframe, MotionLog
 from legent_gym.world.builder import GROUP_COLLISION, World
+from legent_gym.world.humanoid import appearance_for
 from legent_gym.world.rays import RayHit, cast_ray
 from legent_gym.world.scene import Spawn
 
@@ -33,6 +42,10 @@ DEFAULT_REACH = 1.5
 PITCH_RANGE = (-60.0, 60.0)  # degrees; + looks down
 SETTLE_SECONDS = 1.0
 HAND_FORWARD, HAND_HEIGHT = 0.35, 1.0
+#: Where a carried object is held out to the other person when near and facing them.
+HANDOVER_FORWARD, HANDOVER_HEIGHT = 0.5, 1.1
+#: Handing over: the other person within this many metres and this many degrees of the heading.
+HANDOVER_DISTANCE, HANDOVER_ANGLE = 2.0, 45.0
 #: A move stops this far short of what it would touch (metres).
 SKIN = 0.02
 
@@ -88,6 +101,14 @@ class Body:
         self._batch_depth = 0
         self._unsynced = False
         self._clearance_map: ClearanceMap | None = None
+        self.animator = Animator(world.model, name, self.options.height, appearance_for(name, world.scene.seed))
+        #: Metres walked so far (the walk cycle's phase), whether the last primitive walked,
+        #: and the right arm's pose for the last interaction (None: it did not reach).
+        self.walked = 0.0
+        self._walking = False
+        self._reach: IKSolution | None = None
+        self._carry_pose: tuple[tuple[int, bool], Keyframe] | None = None
+        self.motion = MotionLog(self.keyframe())
         self._sync()
 
     # -- pose ------------------------------------------------------------------------------
@@ -111,7 +132,73 @@ class Body:
     def place(self, x: float, y: float, yaw: float, pitch: float = 0.0) -> None:
         self.state.x, self.state.y, self.state.yaw = float(x), float(y), float(yaw) % 360.0
         self.state.pitch = _clamp(float(pitch), *self.pitch_range)
+        self._walking, self._reach = False, None
         self._sync()
+        self.motion = MotionLog(self.keyframe())
+
+    # -- the person's pose ------------------------------------------------------------------
+    def keyframe(self) -> Keyframe:
+        """The pose the person shows now (see :mod:`legent_gym.agent.motion`)."""
+        s = self.state
+        reach = self._reach.angles if self._reach is not None else None
+        return Keyframe(s.x, s.y, s.yaw, s.pitch, self.walked, self._walking, reach, self._carry_arms())
+
+    def _carry_arms(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """Both arms' angles holding the carried object (None when carrying nothing)."""
+        held = self.state.held
+        if held is None:
+            return None
+        handing = self._handing_over()
+        cached = self._carry_pose
+        if cached is not None and cached[0] == (held, handing):
+            return cached[1].carry
+        centre, half_width = self._carried_centre(held, handing)
+        grip = min(max(half_width, 0.04), 0.14) + 0.015
+        ik = self.animator.ik
+        right = ik.towards("right", centre + (0.0, -grip, 0.0))
+        left = ik.towards("left", centre + (0.0, grip, 0.0))
+        arms = (right.angles, left.angles)
+        self._carry_pose = ((held, handing), Keyframe(0, 0, 0, 0, 0, carry=arms))
+        return arms
+
+    def _carried_centre(self, held: int, handing: bool) -> tuple[np.ndarray, float]:
+        """Where the carried object's centre is held, in the person's frame, and its half width."""
+        lo, hi = self.world.assets[held].bounds()
+        forward, height = (HANDOVER_FORWARD, HANDOVER_HEIGHT) if handing else (HAND_FORWARD, HAND_HEIGHT)
+        return np.array([forward, 0.0, height]), float(hi[1] - lo[1]) / 2
+
+    def _handing_over(self) -> bool:
+        """Whether the other person is near and in front (the carried object is held out)."""
+        other = self._other_position()
+        if other is None or self.name != "agent":
+            return False
+        dx, dy = other[0] - self.state.x, other[1] - self.state.y
+        if math.hypot(dx, dy) > HANDOVER_DISTANCE:
+            return False
+        off = (math.degrees(math.atan2(dy, dx)) - self.state.yaw + 180.0) % 360.0 - 180.0
+        return abs(off) <= HANDOVER_ANGLE
+
+    def _aim(self, point) -> None:
+        """Reach the right arm for a world ``point`` (the arm shows the attempt if it is
+        beyond the arm's reach)."""
+        yaw = math.radians(self.state.yaw)
+        dx, dy = float(point[0]) - self.state.x, float(point[1]) - self.state.y
+        local = (math.cos(yaw) * dx + math.sin(yaw) * dy, -math.sin(yaw) * dx + math.cos(yaw) * dy, float(point[2]))
+        self._walking = False
+        self._reach = self.animator.ik.towards("right", local)
+        self.motion.add(self.keyframe())
+
+    def show_motion(self, t: float) -> None:
+        """Pose the person (and what it carries) as it was a share ``t`` (0-1) through the
+        step's motion; ``show_motion(1.0)`` puts back the pose the step ended in."""
+        frame, shuffle, reach_share = self.motion.at(t)
+        world = self.world
+        world.set_body_pose(self.name, frame.x, frame.y, frame.yaw, frame.pitch)
+        self.animator.show(world.data, frame, shuffle=shuffle, reach_share=reach_share)
+        if self.state.held is not None:
+            self._carry(frame)
+        mujoco.mj_kinematics(world.model, world.data)
+        mujoco.mj_camlight(world.model, world.data)
 
     def batched(self) -> _Batch:
         """A context manager: several moves and turns with one update of the world at the end.
@@ -125,7 +212,13 @@ class Body:
         return _Batch(self)
 
     def begin_batch(self) -> None:
-        """Hold world updates until the matching :meth:`end_batch` (see :meth:`batched`)."""
+        """Hold world updates until the matching :meth:`end_batch` (see :meth:`batched`).
+        The outermost one begins a step: the person's pose log starts again, from a stand."""
+        if self._batch_depth == 0:
+            if self._walking or self._reach is not None:
+                self._walking, self._reach = False, None
+                self._unsynced = True  # the idle pose is due, even if nothing moves
+            self.motion = MotionLog(self.keyframe())
         self._batch_depth += 1
 
     def end_batch(self) -> None:
@@ -151,8 +244,10 @@ class Body:
     def _write_pose(self) -> None:
         s = self.state
         self.world.set_body_pose(self.name, s.x, s.y, s.yaw, s.pitch)
+        frame = self.keyframe()
+        self.animator.show(self.world.data, frame)
         if s.held is not None:
-            self._carry()
+            self._carry(frame)
         mujoco.mj_kinematics(self.world.model, self.world.data)
         # Cameras are placed by mj_camlight, not mj_kinematics: without it the head camera
         # keeps rendering the spawn pose however the body moves.
@@ -202,20 +297,27 @@ class Body:
         yaw = math.radians(self.state.yaw)
         self.state.x += math.cos(yaw) * free
         self.state.y += math.sin(yaw) * free
+        self.walked += free
+        self._walking, self._reach = free > 1e-6, None
         self._sync()
+        self.motion.add(self.keyframe())
         if free + 1e-6 < distance:
             return Outcome(True, f"blocked after {free:.2f} m of {distance:.2f} m", moved=free)
         return Outcome(True, moved=free)
 
     def rotate_right(self, degrees: float) -> Outcome:
         self.state.yaw = (self.state.yaw - degrees) % 360.0
+        self._walking, self._reach = False, None
         self._sync()
+        self.motion.add(self.keyframe())
         return Outcome(True)
 
     def rotate_down(self, degrees: float) -> Outcome:
         wanted = self.state.pitch + degrees
         self.state.pitch = _clamp(float(wanted), *self.pitch_range)
+        self._walking, self._reach = False, None
         self._sync()
+        self.motion.add(self.keyframe())
         if self.state.pitch != wanted:
             return Outcome(True, f"pitch clamped to {self.state.pitch:.0f} degrees (range {self.pitch_range})")
         return Outcome(True)
@@ -252,23 +354,32 @@ class Body:
         if target is None:
             looked = self.look()
             if looked is None or (looked.object_id is None and looked.door_id is None):
+                self._aim(self.camera_position + self.view_direction() * self.reach)
                 return "nothing to interact with at the image centre"
             hit = looked
         elif isinstance(target, str):
             if target not in self.world.door_joint:
+                self._aim(self.camera_position + self.view_direction() * self.reach)
                 return f"no door with id {target!r}"
             centre = self.world.data.xipos[self.world.door_body[target]]
             hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre.copy(), door_id=target)
         else:
             if target not in self.world.object_body:
+                self._aim(self.camera_position + self.view_direction() * self.reach)
                 return f"no object with id {target}"
             centre = self.world.object_centre(target)
             hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre, object_id=int(target))
+        self._aim(hit.point)
         problem = self._in_reach(hit)
         return problem if problem else hit
 
     # -- interactions ----------------------------------------------------------------------
     def grab(self, target: int | None = None) -> Outcome:
+        outcome = self._grab(target)
+        self._sync()  # the arm's reach, or the hands on what it now carries
+        return outcome
+
+    def _grab(self, target: int | None) -> Outcome:
         if self.state.held is not None:
             return Outcome(False, f"hands are full: holding {_names(self.world, self.state.held)}")
         hit = self._resolve(target)
@@ -285,6 +396,11 @@ class Body:
         return Outcome(True, target=hit.object_id)
 
     def put(self, target: int | None = None) -> Outcome:
+        outcome = self._put(target)
+        self._sync()
+        return outcome
+
+    def _put(self, target: int | None) -> Outcome:
         held = self.state.held
         if held is None:
             return Outcome(False, "not holding anything")
@@ -300,10 +416,14 @@ class Body:
         return Outcome(True, target=hit.object_id)
 
     def open(self, target: int | str | None = None) -> Outcome:
-        return self._articulate(target, opening=True)
+        outcome = self._articulate(target, opening=True)
+        self._sync()
+        return outcome
 
     def close(self, target: int | str | None = None) -> Outcome:
-        return self._articulate(target, opening=False)
+        outcome = self._articulate(target, opening=False)
+        self._sync()
+        return outcome
 
     def interact(self, target: int | str | None = None) -> Outcome:
         """LEGENT's generic action: put when holding, else grab, else open or close."""
@@ -311,16 +431,20 @@ class Body:
             return self.put(target if isinstance(target, int) else None)
         hit = self._resolve(target)
         if isinstance(hit, str):
+            self._sync()
             return Outcome(False, hit)
         if hit.object_id is not None and self.world.scene.object(hit.object_id).kind == "interactable":
             return self.grab(hit.object_id)
         joint = self._joint_for(hit)
         if joint is None:
+            self._sync()
             return Outcome(False, f"object {_names(self.world, _hit_object(hit))} cannot be picked up or opened")
         lo, hi = self.world.model.jnt_range[joint]
         value = self.world.data.qpos[self.world.model.jnt_qposadr[joint]]
         is_open = abs(value) > 0.5 * max(abs(lo), abs(hi))
-        return self._articulate(hit.door_id if hit.door_id else hit.object_id, opening=not is_open)
+        outcome = self._articulate(hit.door_id if hit.door_id else hit.object_id, opening=not is_open)
+        self._sync()
+        return outcome
 
     # -- helpers ---------------------------------------------------------------------------
     def _joint_for(self, hit: RayHit, opening: bool | None = None) -> int | None:
@@ -367,15 +491,17 @@ class Body:
         mujoco.mj_kinematics(model, data)
         return Outcome(True, target=hit.door_id or hit.object_id)
 
-    def _carry(self) -> None:
+    def _carry(self, frame: Keyframe | None = None) -> None:
+        """Put the carried object between the hands, for the pose ``frame`` (default: now)."""
         held = self.state.held
         if held is None:
             raise RuntimeError(f"{self.name} carries nothing: it holds no object")
         model, data = self.world.model, self.world.data
-        yaw = math.radians(self.state.yaw)
+        x, y, yaw_deg = (self.state.x, self.state.y, self.state.yaw) if frame is None else (frame.x, frame.y, frame.yaw)
+        yaw = math.radians(yaw_deg)
         lo, hi = self.world.assets[held].bounds()
-        pos = (self.state.x + math.cos(yaw) * HAND_FORWARD, self.state.y + math.sin(yaw) * HAND_FORWARD,
-               HAND_HEIGHT - (lo[2] + hi[2]) / 2)
+        centre, _ = self._carried_centre(held, self._handing_over())
+        pos = (x + math.cos(yaw) * centre[0], y + math.sin(yaw) * centre[0], centre[2] - (lo[2] + hi[2]) / 2)
         joint = model.body_jntadr[self.world.object_body[held]]
         adr, dof = model.jnt_qposadr[joint], model.jnt_dofadr[joint]
         data.qpos[adr:adr + 3] = pos

@@ -26,7 +26,7 @@ from legent_gym.envs.episode import HOUSE_CACHE_SIZE, Episode, HouseSource, Obse
 from legent_gym.envs.vector import settle_worker
 from legent_gym.tasks.base import Evaluation
 from legent_gym.tasks.household import make_task
-from legent_gym.world.builder import BodyOptions, BuildOptions, World
+from legent_gym.world.builder import PERSON_SEGMENTATION_ID, BodyOptions, BuildOptions, World
 from legent_gym.world.render import FreeCamera, Renderer
 from legent_gym.world.scene import Scene, load_scene
 
@@ -72,7 +72,8 @@ class HouseholdEnv(gym.Env):
     A ``Dict``: ``rgb`` Box(0, 255, (H, W, 3), uint8), the egocentric view; ``instruction``
     Text, the user's instruction; ``message`` Text, the user's latest words (the instruction
     at reset). With ``depth=True``: ``depth`` Box((H, W), float32) metres; with
-    ``segmentation=True``: ``segmentation`` Box((H, W), int32) scene object ids, -1 elsewhere.
+    ``segmentation=True``: ``segmentation`` Box((H, W), int32) scene object ids; the user's
+    pixels -2, the agent's own hands -3; -1 elsewhere.
 
     Privileged state is in ``info`` (for rewards, experts and analysis, not for policies;
     the whole episode, for experts and servers, is ``env.unwrapped.episode``, an
@@ -202,7 +203,8 @@ class HouseholdEnv(gym.Env):
         if depth:
             obs["depth"] = spaces.Box(0.0, np.inf, (self.height, self.width), np.float32)
         if segmentation:
-            obs["segmentation"] = spaces.Box(-1, np.iinfo(np.int32).max, (self.height, self.width), np.int32)
+            obs["segmentation"] = spaces.Box(min(PERSON_SEGMENTATION_ID.values()), np.iinfo(np.int32).max,
+                                                 (self.height, self.width), np.int32)
         self.observation_space = spaces.Dict(obs)
 
         self._n_actions = 0

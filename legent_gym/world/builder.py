@@ -9,12 +9,15 @@ What it makes (see ``docs/architecture.md``):
   invisible. Interactable objects get a free joint; furniture is welded to the world;
   doors and drawers of furniture are child bodies with hinge or slide joints.
 * One body per door leaf, on a hinge joint in its wall opening.
-* The agent and the user: mocap bodies (kinematic, moved by the environment) with a simple
-  avatar each, and a head camera each (``agent_camera``, ``user_camera``) on separate head
-  mocap bodies so yaw and pitch are set directly.
+* The agent and the user: mocap bodies (kinematic, moved by the environment) carrying an
+  articulated humanoid each (:mod:`legent_gym.world.humanoid`), and a head camera each
+  (``agent_camera``, ``user_camera``) on separate head mocap bodies so yaw and pitch are
+  set directly.
 
 Geom groups (used to show or hide things per view): 0 house and furniture, 1 small
-objects, 2 ceilings, 3 collision only (never drawn), 4 agent avatar, 5 user avatar.
+objects, 2 ceilings and the people's hands (``GROUP_HANDS``: every camera shows them, view
+rays pass through them; free and top-down views leave the ceilings out geom by geom), 3
+collision only (never drawn), 4 the agent's body but its hands, 5 the user's.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ import mujoco
 import numpy as np
 
 from legent_gym.world.assets import registry
-from legent_gym.world.assets.model import AssetModel, Link, Part, box_part, cylinder_part
+from legent_gym.world.assets.model import AssetModel, Link, Part, box_part
 from legent_gym.world.geometry import (
     door_hinge_point,
     door_leads_outside,
@@ -35,6 +38,7 @@ from legent_gym.world.geometry import (
     points_in_polygon,
     wall_frame,
 )
+from legent_gym.world.humanoid import add_humanoid, appearance_for
 from legent_gym.world.meshing import (
     ColouredMesh,
     MeshAccumulator,
@@ -49,6 +53,12 @@ from legent_gym.world.scene import Scene, scene_base_dir
 from legent_gym.world.styles import get_style, styled_palette
 
 GROUP_HOUSE, GROUP_OBJECTS, GROUP_CEILING, GROUP_COLLISION, GROUP_AGENT, GROUP_USER = range(6)
+#: The people's hands share the ceilings' group: every head camera shows it and no view ray
+#: meets it (see the module docstring).
+GROUP_HANDS = GROUP_CEILING
+#: What a person's pixels carry in segmentation images (scene objects carry their ids,
+#: which are never negative; -1 is house, doors and background).
+PERSON_SEGMENTATION_ID = {"user": -2, "agent": -3}
 
 FLOOR_THICKNESS = 0.05
 DOOR_LEAF_THICKNESS = 0.04
@@ -56,7 +66,8 @@ DOOR_LEAF_THICKNESS = 0.04
 
 @dataclass(frozen=True)
 class BodyOptions:
-    """The agent's (and user's) body: a person-sized cylinder with a head camera."""
+    """The agent's (and user's) body: its collision disc (``radius``), its height (the
+    humanoid's nominal height) and its head camera."""
 
     radius: float = 0.25
     height: float = 1.6
@@ -84,7 +95,9 @@ class World:
 
     The map arrays are what tasks, experts and segmentation read: ``geom_object[g]`` is the
     scene object id of geom ``g`` (-1 for house, doors, avatars); ``object_body[id]`` the
-    body of an object; ``door_joint[door_id]`` the hinge joint of a door leaf.
+    body of an object; ``door_joint[door_id]`` the hinge joint of a door leaf;
+    ``geom_segment[g]`` what segmentation images show for geom ``g`` (the object id, a
+    person's :data:`PERSON_SEGMENTATION_ID`, or -1).
     """
 
     scene: Scene
@@ -100,6 +113,7 @@ class World:
     palette: Palette
     options: BuildOptions
     free_objects: list[int] = field(default_factory=list)
+    geom_segment: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
     #: Data derived from this world by other modules (e.g. the agent's clearance map),
     #: dropped with it.
     derived: dict[object, object] = field(default_factory=dict, init=False, repr=False, compare=False)
@@ -147,6 +161,10 @@ class World:
     def geom_object_lookup(self, geom_ids: np.ndarray) -> np.ndarray:
         """Scene object ids for an array of geom ids (-1 stays -1)."""
         return np.where(geom_ids >= 0, self.geom_object[np.maximum(geom_ids, 0)], -1).astype(np.int32)
+
+    def geom_segment_lookup(self, geom_ids: np.ndarray) -> np.ndarray:
+        """Segmentation ids (see ``geom_segment``) for an array of geom ids (-1 stays -1)."""
+        return np.where(geom_ids >= 0, self.geom_segment[np.maximum(geom_ids, 0)], -1).astype(np.int32)
 
 
 def yaw_quat(yaw_deg: float) -> np.ndarray:
@@ -215,8 +233,8 @@ class _SpecBuilder:
                                for obj, asset in zip(self.scene.objects, assets) for link in asset.links])
         for obj, asset in zip(self.scene.objects, assets):
             self._add_object(obj, asset)
-        self._add_avatar("agent", self.options.agent, (0.25, 0.35, 0.6, 1.0), GROUP_AGENT)
-        self._add_avatar("user", self.options.user, (0.8, 0.45, 0.3, 1.0), GROUP_USER)
+        self._add_avatar("agent", self.options.agent, GROUP_AGENT)
+        self._add_avatar("user", self.options.user, GROUP_USER)
         self._add_lights()
         self._finish_palette()
         return self.spec, self.palette
@@ -490,11 +508,11 @@ class _SpecBuilder:
                              movable=interactable or link.joint is not None, friction=friction)
 
     # -- avatars and lights ------------------------------------------------------------
-    def _add_avatar(self, name: str, opts: BodyOptions, rgba, group: int) -> None:
+    def _add_avatar(self, name: str, opts: BodyOptions, group: int) -> None:
         wb = self.spec.worldbody
         body = wb.add_body(name=name, mocap=True)
-        self._link_geoms(body, _avatar_link(opts, tuple(rgba)), group=group, name=f"{name}_avatar",
-                         movable=True)
+        add_humanoid(body, name, opts.height, appearance_for(name, self.scene.seed), body_group=group,
+                     hand_group=GROUP_HANDS)
         head = wb.add_body(name=f"{name}_head", mocap=True, pos=[0, 0, opts.camera_height])
         cam = head.add_camera(name=f"{name}_camera", fovy=opts.fovy)
         cam.pos = [0, 0, 0]
@@ -530,18 +548,6 @@ def _each_thrice(n: int) -> list[int]:
 
 # Avatars and door leaves are the same few shapes in every house: one Link object per shape,
 # so their merged geometry is cached like an asset's (link_geometry caches per Link).
-
-
-@lru_cache(maxsize=64)
-def _avatar_link(opts: BodyOptions, rgba: tuple) -> Link:
-    torso_h = opts.height * 0.62
-    return Link("avatar", [
-        cylinder_part((0, 0, torso_h / 2), opts.radius, torso_h, rgba, collision="none"),
-        cylinder_part((0, 0, torso_h + opts.height * 0.13), opts.radius * 0.8, opts.height * 0.26,
-                      tuple(min(c * 1.25, 1.0) for c in rgba[:3]) + (1.0,), collision="none"),
-        box_part((opts.radius * 0.9, 0, opts.camera_height), (0.06, 0.14, 0.06), (0.1, 0.1, 0.1, 1.0),
-                 collision="none"),
-    ])
 
 
 @lru_cache(maxsize=256)
@@ -600,8 +606,12 @@ def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
             door_body[door.id] = model.body(f"door_{door.id}").id
             data.qpos[model.jnt_qposadr[jid]] = b.door_initial[door.id]
     free = [o.id for o in scene.objects if o.kind == "interactable"]
+    geom_segment = geom_object.copy()
+    for who, segment_id in PERSON_SEGMENTATION_ID.items():
+        root = model.body(who).id
+        geom_segment[model.body_rootid[model.geom_bodyid] == root] = segment_id
     world = World(scene, model, data, b.assets, object_body, object_joints, door_joint, door_body,
-                  geom_object, geom_door, b.palette, options, free)
+                  geom_object, geom_door, b.palette, options, free, geom_segment)
     world.set_body_pose("agent", *scene.agent.position, scene.agent.yaw)
     user = scene.user or scene.agent
     world.set_body_pose("user", *user.position, user.yaw)

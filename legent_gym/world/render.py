@@ -217,6 +217,9 @@ class Renderer:
         self._camera_spec: CameraSpec | None = None  # what _camera and _option are set up for
         self._segmented = False
         self._cull: FrustumCull | None = None  # the current camera's culling test, if it culls
+        #: Geoms the current camera never shows whatever their group: the ceilings, in free
+        #: and top-down views (their group also holds the people's hands, which these show).
+        self._left_out = np.zeros(0, dtype=np.intp)
         self._culls: dict[int, FrustumCull] = {}  # by fixed camera id
         self._rect = mujoco.MjrRect(0, 0, self.width, self.height)
         self._rgb = np.empty((self.height, self.width, 3), dtype=np.uint8)
@@ -306,13 +309,14 @@ class Renderer:
         groups[GROUP_AGENT] = groups[GROUP_USER] = groups[GROUP_CEILING] = 1
         cam.orthographic = 0
         self._cull = None
+        self._left_out = self._no_geoms
         if isinstance(camera, FreeCamera):
             cam.type = mujoco.mjtCamera.mjCAMERA_FREE
             cam.lookat[:] = camera.lookat
             cam.distance, cam.azimuth, cam.elevation = camera.distance, camera.azimuth, camera.elevation
             cam.orthographic = int(camera.orthographic)
             model.vis.global_.fovy = FREE_FOVY
-            groups[GROUP_CEILING] = 0
+            self._left_out = self._ceilings()
             return
         if camera == "topdown":
             (lo_x, lo_y), (hi_x, hi_y) = self.world.scene.bounds()
@@ -322,7 +326,7 @@ class Renderer:
             cam.distance, cam.azimuth, cam.elevation = 30.0, 90.0, -90.0
             cam.orthographic = 1
             model.vis.global_.fovy = span  # orthographic: fovy is the view height in metres
-            groups[GROUP_CEILING] = 0
+            self._left_out = self._ceilings()
             return
         name = {"agent": "agent_camera", "user": "user_camera"}.get(camera, camera)
         cid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_CAMERA, name)
@@ -339,6 +343,14 @@ class Renderer:
                 self._culls[cid] = FrustumCull(model, cid, self.width, self.height, groups)
             self._cull = self._culls[cid]
 
+    _no_geoms = np.zeros(0, dtype=np.intp)
+
+    def _ceilings(self) -> np.ndarray:
+        """The ceiling geoms (what free and top-down views leave out)."""
+        model = self.world.model
+        found = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "ceilings")
+        return np.array([found] if found >= 0 else [], dtype=np.intp)
+
     def _draw(self, camera: CameraSpec, segmentation: bool = False) -> None:
         self._ensure()
         # "topdown" and free cameras set the model's global fovy, which another renderer
@@ -347,12 +359,12 @@ class Renderer:
             self._setup_camera(camera)
             self._camera_spec = camera
         scn, model, data = self._made_scene(), self.world.model, self.world.data
-        if self._cull is None:
+        if self._cull is None and not len(self._left_out):
             mujoco.mjv_updateScene(model, data, self._option, self._perturb, self._camera, mujoco.mjtCatBit.mjCAT_ALL, scn)
         else:
             # Culled geoms go, for this one call, to a group the option hides: the scene then
             # simply lacks them (MuJoCo has no other per-geom switch that costs nothing).
-            hidden = self._cull.outside(data)
+            hidden = self._cull.outside(data) if self._cull is not None else self._left_out
             groups = model.geom_group
             their_groups = groups[hidden]
             groups[hidden] = GROUP_COLLISION
@@ -403,8 +415,10 @@ class Renderer:
         return out.astype(np.float32)
 
     def segmentation(self, camera: CameraSpec = "agent") -> np.ndarray:
-        """(H, W) int32 scene object id per pixel; -1 for house, doors, avatars, background."""
-        return self.world.geom_object_lookup(self._geom_ids(camera))
+        """(H, W) int32 scene object id per pixel; a person's pixels carry that person's
+        :data:`~legent_gym.world.builder.PERSON_SEGMENTATION_ID` (user -2, agent -3); -1 for
+        house, doors and background."""
+        return self.world.geom_segment_lookup(self._geom_ids(camera))
 
     def geom_ids(self, camera: CameraSpec = "agent") -> np.ndarray:
         """(H, W) int32 MuJoCo geom id per pixel, -1 for background."""

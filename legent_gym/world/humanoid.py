@@ -1,0 +1,277 @@
+"""People: the articulated, kinematic humanoid that the agent and the user are drawn as.
+
+A person is a tree of MuJoCo bodies under the avatar's mocap root (``agent`` or ``user``,
+placed at the floor and turned to the heading by the environment)::
+
+    <who>/pelvis
+        <who>/torso
+            <who>/head                      hinge  <who>/neck (pitch)
+            <who>/<side>_upper_arm          hinges <who>/<side>_shoulder_flex, _abduct, _twist
+                <who>/<side>_lower_arm      hinge  <who>/<side>_elbow
+                    <who>/<side>_hand       site   <who>/<side>_hand
+        <who>/<side>_upper_leg              hinge  <who>/<side>_hip
+            <who>/<side>_lower_leg          hinge  <who>/<side>_knee
+                <who>/<side>_foot           hinge  <who>/<side>_ankle
+
+(``<side>`` is ``right`` or ``left``.) Every part is one low-poly primitive or two (a
+capsule, an ellipsoid, a box) so that a person costs a renderer about fifteen small draw
+calls. The avatar is visual only: its geoms collide with nothing and view rays pass
+through them; the body that collides is still the swept disc of
+:mod:`legent_gym.agent.body`. Joints are limited hinges; their bodies have gravity
+compensation, so physics (an object settling after ``put``) never moves a limb: only the
+environment poses them (:mod:`legent_gym.agent.motion`).
+
+Proportions follow the body's height; girth, a small height change, skin, hair and
+clothing colours and a silhouette come from the scene's seed (:func:`appearance_for`), so
+the same scene always shows the same people. The agent has a robot-like look (grey shell,
+dark visor) and is never mistaken for the user.
+
+Geom groups: every part but the hands is in the person's own group (``GROUP_AGENT`` or
+``GROUP_USER``), which that person's head camera hides; the hands are in the group every
+camera shows (``GROUP_HANDS``), so an agent sees its own hands and what it holds.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+SIDES = ("right", "left")
+#: The limbs' parts, per side: (part, parent part).
+PARTS = ("pelvis", "torso", "head",
+         *(f"{s}_{p}" for s in SIDES for p in ("upper_arm", "lower_arm", "hand", "upper_leg", "lower_leg", "foot")))
+
+
+@dataclass(frozen=True)
+class Joint:
+    """One hinge of the skeleton: its body, its axis in that body's frame and its range in
+    degrees (positive angles: the arm and the thigh swing forward, the elbow and the knee
+    bend, the head looks down, the arm lifts away from the body)."""
+
+    name: str
+    part: str
+    axis: tuple[float, float, float]
+    range_deg: tuple[float, float]
+
+
+def _side_joints(side: str) -> tuple[Joint, ...]:
+    out = 1.0 if side == "left" else -1.0  # +x lifts the left arm outwards, -x the right
+    return (
+        Joint(f"{side}_shoulder_flex", f"{side}_upper_arm", (0.0, -1.0, 0.0), (-60.0, 170.0)),
+        Joint(f"{side}_shoulder_abduct", f"{side}_upper_arm", (out, 0.0, 0.0), (-15.0, 160.0)),
+        Joint(f"{side}_shoulder_twist", f"{side}_upper_arm", (0.0, 0.0, out), (-80.0, 90.0)),
+        Joint(f"{side}_elbow", f"{side}_lower_arm", (0.0, -1.0, 0.0), (0.0, 150.0)),
+        Joint(f"{side}_hip", f"{side}_upper_leg", (0.0, -1.0, 0.0), (-40.0, 100.0)),
+        Joint(f"{side}_knee", f"{side}_lower_leg", (0.0, 1.0, 0.0), (0.0, 140.0)),
+        Joint(f"{side}_ankle", f"{side}_foot", (0.0, -1.0, 0.0), (-45.0, 45.0)),
+    )
+
+
+#: Every joint of a person, in the order of :class:`Pose` vectors.
+JOINTS: tuple[Joint, ...] = (Joint("neck", "head", (0.0, 1.0, 0.0), (-40.0, 50.0)),
+                             *_side_joints("right"), *_side_joints("left"))
+JOINT_INDEX = {j.name: i for i, j in enumerate(JOINTS)}
+JOINT_LOW = np.radians([j.range_deg[0] for j in JOINTS])
+JOINT_HIGH = np.radians([j.range_deg[1] for j in JOINTS])
+#: The arm joints the reach IK moves, per side (shoulder flex, abduct, twist, elbow).
+ARM_JOINTS = {s: tuple(JOINT_INDEX[f"{s}_{n}"] for n in ("shoulder_flex", "shoulder_abduct", "shoulder_twist", "elbow"))
+              for s in SIDES}
+
+
+@dataclass(frozen=True)
+class Appearance:
+    """How one person looks: colours (RGBA), a girth factor, a height factor and a
+    silhouette (``"trousers"``, ``"skirt"``, ``"long_hair"``, ``"robot"``)."""
+
+    skin: tuple[float, float, float, float]
+    hair: tuple[float, float, float, float]
+    top: tuple[float, float, float, float]
+    bottom: tuple[float, float, float, float]
+    shoes: tuple[float, float, float, float]
+    girth: float = 1.0
+    height_scale: float = 1.0
+    silhouette: str = "trousers"
+
+
+SKIN = ((0.96, 0.80, 0.69), (0.88, 0.68, 0.53), (0.76, 0.57, 0.42), (0.55, 0.38, 0.26), (0.36, 0.24, 0.16))
+HAIR = ((0.1, 0.07, 0.05), (0.35, 0.22, 0.1), (0.72, 0.55, 0.3), (0.55, 0.55, 0.55), (0.45, 0.15, 0.08))
+CLOTHES = ((0.75, 0.2, 0.2), (0.2, 0.45, 0.75), (0.25, 0.6, 0.35), (0.9, 0.75, 0.3), (0.55, 0.35, 0.65),
+           (0.92, 0.92, 0.9), (0.25, 0.25, 0.3), (0.85, 0.45, 0.2))
+TROUSERS = ((0.15, 0.2, 0.35), (0.3, 0.3, 0.32), (0.45, 0.35, 0.25), (0.12, 0.12, 0.12), (0.6, 0.55, 0.45))
+#: The agent's look: a grey shell with blue accents and a dark visor.
+ROBOT = Appearance(skin=(0.78, 0.8, 0.84, 1.0), hair=(0.08, 0.1, 0.14, 1.0), top=(0.25, 0.35, 0.6, 1.0),
+                   bottom=(0.55, 0.58, 0.62, 1.0), shoes=(0.2, 0.22, 0.26, 1.0), silhouette="robot")
+
+
+def _opaque(rgb) -> tuple[float, float, float, float]:
+    return (float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0)
+
+
+def appearance_for(who: str, seed: int | None) -> Appearance:
+    """The look of ``who`` (``"agent"`` or ``"user"``) in a scene with ``seed``: the agent
+    is always the robot, in a shell colour drawn from the seed; the user's colours, build and
+    silhouette are drawn from the seed. Deterministic."""
+    rng = np.random.default_rng([0 if seed is None else int(seed) % 2**63, 0 if who == "agent" else 1])
+    if who == "agent":
+        accent = CLOTHES[int(rng.integers(len(CLOTHES)))]
+        return Appearance(**{**ROBOT.__dict__, "top": _opaque(accent)})
+    return Appearance(
+        skin=_opaque(SKIN[int(rng.integers(len(SKIN)))]),
+        hair=_opaque(HAIR[int(rng.integers(len(HAIR)))]),
+        top=_opaque(CLOTHES[int(rng.integers(len(CLOTHES)))]),
+        bottom=_opaque(TROUSERS[int(rng.integers(len(TROUSERS)))]),
+        shoes=_opaque((0.15, 0.12, 0.1) if rng.random() < 0.6 else (0.85, 0.85, 0.85)),
+        girth=float(rng.uniform(0.9, 1.15)),
+        height_scale=float(rng.uniform(0.96, 1.04)),
+        silhouette=("trousers", "skirt", "long_hair")[int(rng.integers(3))],
+    )
+
+
+@dataclass(frozen=True)
+class Proportions:
+    """Where a person's joints are, in metres, for a visual height (see :func:`proportions`)."""
+
+    height: float
+    girth: float
+    hip_z: float          # hip joints above the floor
+    hip_y: float          # hip joints either side of the middle
+    waist_z: float        # torso above the pelvis
+    shoulder_z: float     # shoulders above the waist
+    shoulder_y: float
+    neck_z: float         # neck above the waist
+    upper_arm: float
+    lower_arm: float
+    hand: float           # wrist to the hand site
+    upper_leg: float
+    lower_leg: float      # knee to ankle
+    head_radius: float
+
+    @property
+    def arm_length(self) -> float:
+        """Shoulder to hand site, arm straight."""
+        return self.upper_arm + self.lower_arm + self.hand
+
+    def shoulder(self, side: str) -> np.ndarray:
+        """The shoulder joint in the person's frame (x forward, y left, z up, origin on the
+        floor between the feet)."""
+        sign = 1.0 if side == "left" else -1.0
+        return np.array([0.0, sign * self.shoulder_y, self.hip_z + self.waist_z + self.shoulder_z])
+
+
+def proportions(height: float, girth: float = 1.0) -> Proportions:
+    """A person's joint layout for a body ``height`` metres tall (adult proportions)."""
+    h = height
+    return Proportions(height=h, girth=girth, hip_z=0.52 * h, hip_y=0.055 * h * girth, waist_z=0.06 * h,
+                       shoulder_z=0.24 * h, shoulder_y=0.115 * h * girth, neck_z=0.31 * h,
+                       upper_arm=0.17 * h, lower_arm=0.145 * h, hand=0.04 * h, upper_leg=0.245 * h,
+                       lower_leg=0.235 * h, head_radius=0.06 * h)
+
+
+_CAPSULE, _ELLIPSOID, _BOX, _SPHERE = (mujoco.mjtGeom.mjGEOM_CAPSULE, mujoco.mjtGeom.mjGEOM_ELLIPSOID,
+                                       mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_SPHERE)
+
+
+def add_humanoid(root, who: str, height: float, look: Appearance, *, body_group: int, hand_group: int) -> None:
+    """Add a person's parts, joints and hand sites under ``root`` (an ``MjsBody``: the
+    avatar's root at the floor, facing +x). ``height`` is the body's nominal height;
+    ``look.height_scale`` and ``look.girth`` vary it."""
+    p = proportions(height * look.height_scale, look.girth)
+    h, g = p.height, p.girth
+    robot = look.silhouette == "robot"
+
+    def geom(body, name: str, kind, size, rgba, *, pos=(0, 0, 0), fromto=None, group: int = body_group):
+        spec = dict(type=kind, rgba=list(rgba), group=group, contype=0, conaffinity=0, name=f"{who}/{name}",
+                    density=300.0)
+        if fromto is not None:
+            spec["fromto"] = list(fromto)
+            spec["size"] = [size, 0, 0]
+        else:
+            spec["size"] = list(size) if isinstance(size, tuple) else [size, 0, 0]
+            spec["pos"] = list(pos)
+        body.add_geom(**spec)
+
+    def child(parent, part: str, pos):
+        return parent.add_body(name=f"{who}/{part}", pos=list(pos), gravcomp=1.0)
+
+    def hinges(body, part: str):
+        for j in JOINTS:
+            if j.part == part:
+                body.add_joint(name=f"{who}/{j.name}", type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(j.axis),
+                               range=[math.radians(j.range_deg[0]), math.radians(j.range_deg[1])],
+                               limited=mujoco.mjtLimited.mjLIMITED_TRUE, armature=0.01, damping=1.0)
+
+    pelvis = child(root, "pelvis", (0, 0, p.hip_z))
+    lower = look.top if look.silhouette == "skirt" else look.bottom
+    geom(pelvis, "pelvis", _ELLIPSOID, (0.07 * h * g, 0.1 * h * g, 0.065 * h), lower, pos=(0, 0, 0.025 * h))
+    if look.silhouette == "skirt":  # a skirt: a wide cone-ish ellipsoid over the thighs
+        geom(pelvis, "skirt", _ELLIPSOID, (0.09 * h * g, 0.115 * h * g, 0.11 * h), look.top, pos=(0, 0, -0.06 * h))
+    torso = child(pelvis, "torso", (0, 0, p.waist_z))
+    if robot:
+        geom(torso, "torso", _BOX, (0.07 * h, 0.11 * h, 0.13 * h), look.top, pos=(0, 0, 0.14 * h))
+    else:
+        geom(torso, "torso", _ELLIPSOID, (0.075 * h * g, 0.12 * h * g, 0.16 * h), look.top, pos=(0, 0, 0.13 * h))
+    head = child(torso, "head", (0, 0, p.neck_z))
+    hinges(head, "head")
+    hz = p.head_radius * 0.75
+    if robot:
+        geom(head, "head", _BOX, (p.head_radius, p.head_radius * 0.9, p.head_radius * 1.05), look.skin,
+             pos=(0, 0, hz))
+        geom(head, "visor", _BOX, (0.01 * h, p.head_radius * 0.75, p.head_radius * 0.35), look.hair,
+             pos=(p.head_radius, 0, hz + 0.1 * p.head_radius))
+    else:
+        geom(head, "head", _ELLIPSOID, (p.head_radius * 0.95, p.head_radius * 0.85, p.head_radius * 1.1),
+             look.skin, pos=(0.01 * h, 0, hz))
+        long_hair = look.silhouette == "long_hair"
+        geom(head, "hair", _ELLIPSOID, (p.head_radius, p.head_radius * 0.92,
+                                        p.head_radius * (1.2 if long_hair else 0.8)),
+             look.hair, pos=(-0.012 * h, 0, hz + (-0.02 * h if long_hair else 0.025 * h)))
+    for side in SIDES:
+        sign = 1.0 if side == "left" else -1.0
+        upper = child(torso, f"{side}_upper_arm", (0, sign * p.shoulder_y, p.shoulder_z))
+        hinges(upper, f"{side}_upper_arm")
+        geom(upper, f"{side}_upper_arm", _CAPSULE, 0.026 * h * g, look.top, fromto=(0, 0, 0, 0, 0, -p.upper_arm))
+        fore = child(upper, f"{side}_lower_arm", (0, 0, -p.upper_arm))
+        hinges(fore, f"{side}_lower_arm")
+        geom(fore, f"{side}_lower_arm", _CAPSULE, 0.021 * h * g, look.skin if not robot else look.bottom,
+             fromto=(0, 0, 0, 0, 0, -p.lower_arm))
+        hand = child(fore, f"{side}_hand", (0, 0, -p.lower_arm))
+        geom(hand, f"{side}_hand", _ELLIPSOID, (0.014 * h, 0.028 * h, 0.045 * h), look.skin,
+             pos=(0, 0, -0.03 * h), group=hand_group)
+        hand.add_site(name=f"{who}/{side}_hand", pos=[0, 0, -p.hand], size=[0.01, 0, 0])
+        thigh = child(pelvis, f"{side}_upper_leg", (0, sign * p.hip_y, 0))
+        hinges(thigh, f"{side}_upper_leg")
+        geom(thigh, f"{side}_upper_leg", _CAPSULE, 0.037 * h * g, look.bottom, fromto=(0, 0, 0, 0, 0, -p.upper_leg))
+        shin = child(thigh, f"{side}_lower_leg", (0, 0, -p.upper_leg))
+        hinges(shin, f"{side}_lower_leg")
+        shin_colour = look.skin if look.silhouette == "skirt" else look.bottom
+        geom(shin, f"{side}_lower_leg", _CAPSULE, 0.028 * h * g, shin_colour, fromto=(0, 0, 0, 0, 0, -p.lower_leg))
+        foot = child(shin, f"{side}_foot", (0, 0, -p.lower_leg))
+        hinges(foot, f"{side}_foot")
+        ankle_z = p.hip_z - p.upper_leg - p.lower_leg
+        geom(foot, f"{side}_foot", _BOX, (0.065 * h, 0.028 * h, ankle_z / 2), look.shoes,
+             pos=(0.035 * h, 0, -ankle_z / 2))
+
+
+def skeleton_model(height: float, look: Appearance) -> mujoco.MjModel:
+    """A model of one person alone (root fixed at the origin, facing +x): what the reach IK
+    runs its forward kinematics on, a few microseconds a pass instead of a whole house's."""
+    spec = mujoco.MjSpec()
+    spec.compiler.degree = False
+    root = spec.worldbody.add_body(name="person")
+    add_humanoid(root, "person", height, look, body_group=0, hand_group=0)
+    return spec.compile()
+
+
+class PoseWriter:
+    """Writes joint angles (a vector in :data:`JOINTS` order, radians) into a compiled
+    model's ``qpos`` for the person ``who``."""
+
+    def __init__(self, model: mujoco.MjModel, who: str):
+        self.addresses = np.array([model.jnt_qposadr[model.joint(f"{who}/{j.name}").id] for j in JOINTS])
+        self.hand_sites = {s: model.site(f"{who}/{s}_hand").id for s in SIDES}
+
+    def write(self, data: mujoco.MjData, angles: np.ndarray) -> None:
+        data.qpos[self.addresses] = angles
