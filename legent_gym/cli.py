@@ -220,7 +220,7 @@ def cmd_collect(args) -> int:
 
     env_kwargs = parse_env_kwargs(args.env_kwargs)
     for key, value in (("width", args.width), ("height", args.height), ("action_type", args.action_type),
-                       ("max_episode_steps", args.max_steps)):
+                       ("max_episode_steps", args.max_steps), ("frames_per_step", args.frames_per_step)):
         if value is not None:
             env_kwargs[key] = value
     formats = tuple(f.strip() for f in args.format.split(",") if f.strip())
@@ -324,6 +324,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--height", type=int)
     p.add_argument("--action-type", choices=["text", "continuous"])
     p.add_argument("--max-steps", type=int, help="episode cap (the env's max_episode_steps)")
+    p.add_argument("--frames-per-step", type=int,
+                   help="with --format video: frames a step is shown in (people walk and reach between observations)")
     p.add_argument("--env-kwargs", help="JSON object of further gym.make arguments")
     p.add_argument("--window", type=int, default=6, help="images per interleaved.jsonl sample")
     p.add_argument("--dataset-id", help="Minari dataset id (default legent/<Task>-<Layout>/expert-v0)")

@@ -191,6 +191,10 @@ class Body:
     def show_motion(self, t: float) -> None:
         """Pose the person (and what it carries) as it was a share ``t`` (0-1) through the
         step's motion; ``show_motion(1.0)`` puts back the pose the step ended in."""
+        if t >= 1.0:
+            self._write_pose()
+            mujoco.mj_camlight(self.world.model, self.world.data)
+            return
         frame, shuffle, reach_share = self.motion.at(t)
         world = self.world
         world.set_body_pose(self.name, frame.x, frame.y, frame.yaw, frame.pitch)

@@ -11,7 +11,7 @@ the same images:
 * standing: the idle pose (arms loose at the sides); a step that only turned shows the
   idle pose at its end, and a small shuffle in the frames between;
 * the head pitches with ``rotate_down`` (a share of the camera's pitch);
-* reaching: the right arm's shoulder and elbow come from damped-least-squares IK
+* reaching (when not carrying): the right arm's shoulder and elbow come from damped-least-squares IK
   (:class:`ArmIK`) to the point the interaction aimed at (the object, the surface spot,
   the handle); a point beyond the arm is reached towards with the arm straight;
 * carrying: both hands hold the carried object; near the other person and facing them,
@@ -252,7 +252,7 @@ def joint_angles(frame: Keyframe, height: float, *, shuffle: float = 0.0, reach_
     if frame.carry is not None:
         q[list(ARM_JOINTS["right"])] = frame.carry[0]
         q[list(ARM_JOINTS["left"])] = frame.carry[1]
-    if frame.reach is not None and reach_share > 0:
+    if frame.reach is not None and reach_share > 0 and frame.carry is None:  # carrying wins: the hands hold it
         arm = list(ARM_JOINTS["right"])
         q[arm] = q[arm] * (1.0 - reach_share) + frame.reach * reach_share
     return np.clip(q, JOINT_LOW, JOINT_HIGH)

@@ -101,6 +101,9 @@ class Episode:
     #: from that view; :class:`~legent_gym.experts.oracle.GoalView`) where the env provides
     #: it (``ExpertInfo``), else None.
     goal_views: list[dict[str, Any] | None] = field(default_factory=list)
+    #: Per step, the agent's views of the moments within it, before its observation
+    #: (``info["frames"]`` of an env with ``frames_per_step`` > 1; else empty lists).
+    between: list[list[np.ndarray]] = field(default_factory=list)
     success: bool = False
     house_seed: int | None = None
     scene_name: str | None = None
@@ -184,6 +187,7 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
         episode.rewards.append(float(reward))
         episode.terminations.append(bool(terminated))
         episode.truncations.append(bool(truncated))
+        episode.between.append(list(info.get("frames", ())))
         episode.observations.append(obs)
         episode.infos.append(recorded_info(info))
         episode.goal_views.append(info.get("goal_view"))

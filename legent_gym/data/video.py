@@ -2,7 +2,10 @@
 
 Frame n of the video is the view before action n with that action written under it; the
 last frame is the final view, captioned with the outcome, so a video has ``steps + 1``
-frames. Views are scaled up (nearest neighbour) so that the caption is legible.
+frames. An env with ``frames_per_step`` F > 1 adds the F - 1 views within each step after
+its first frame (the same caption), and the video plays F times as many frames a second,
+so that an episode lasts as long and people walk instead of jumping. Views are scaled up
+(nearest neighbour) so that the caption is legible.
 H.264 comes from PyAV (``av``, extra ``data``): OpenCV's writers cannot encode it here.
 """
 
@@ -47,16 +50,24 @@ def caption_lines(episode: Episode, n: int, width: int) -> list[str]:
 
 
 def video_frames(episode: Episode) -> list[np.ndarray]:
-    """The captioned RGB frames (``steps + 1`` of them)."""
+    """The captioned RGB frames (``steps + 1`` of them, and the views within steps)."""
     h, w = episode.observations[0]["rgb"].shape[:2]
     scale = max(1, -(-MIN_VIEW_WIDTH // w))
     frames = []
     for n, obs in enumerate(episode.observations):
-        view = np.repeat(np.repeat(obs["rgb"], scale, axis=0), scale, axis=1)
-        frame = np.vstack([view, _caption(view.shape[1], caption_lines(episode, n, view.shape[1]))])
-        pad_h, pad_w = _even(frame.shape[0]) - frame.shape[0], _even(frame.shape[1]) - frame.shape[1]
-        frames.append(np.pad(frame, ((0, pad_h), (0, pad_w), (0, 0))))
+        within = episode.between[n] if n < len(episode.between) else []
+        caption = _caption(w * scale, caption_lines(episode, n, w * scale))
+        for image in (obs["rgb"], *within):
+            view = np.repeat(np.repeat(image, scale, axis=0), scale, axis=1)
+            frame = np.vstack([view, caption])
+            pad_h, pad_w = _even(frame.shape[0]) - frame.shape[0], _even(frame.shape[1]) - frame.shape[1]
+            frames.append(np.pad(frame, ((0, pad_h), (0, pad_w), (0, 0))))
     return frames
+
+
+def frames_per_step(episode: Episode) -> int:
+    """F of the env that recorded ``episode`` (1 + the views within its first step)."""
+    return 1 + (len(episode.between[0]) if episode.between else 0)
 
 
 def encode_mp4(frames: list[np.ndarray], fps: int = FPS) -> bytes:
@@ -80,7 +91,8 @@ def encode_mp4(frames: list[np.ndarray], fps: int = FPS) -> bytes:
 
 
 def episode_video(episode: Episode, fps: int = FPS) -> bytes:
-    return encode_mp4(video_frames(episode), fps)
+    """The episode's mp4 at ``fps`` steps a second (``fps`` x F frames a second)."""
+    return encode_mp4(video_frames(episode), fps * frames_per_step(episode))
 
 
 def read_video(data_or_path) -> list[np.ndarray]:
@@ -93,7 +105,14 @@ def read_video(data_or_path) -> list[np.ndarray]:
 
 
 def episode_map(scene, episode: Episode, size: int = 480) -> np.ndarray:
-    """The house seen from above with the agent's path drawn."""
+    """The house seen from above with the agent's path drawn, and both people where the
+    episode ended."""
     from legent_gym.world.topdown_map import draw_topdown_map
 
-    return draw_topdown_map(scene, size=size, path=episode.path)
+    last = episode.infos[-1] if episode.infos else None
+    people = None
+    if last is not None:
+        people = {"agent": tuple(last["agent_pose"][:3])}
+        if not np.isnan(last["user_pose"][0]):
+            people["user"] = tuple(last["user_pose"][:3])
+    return draw_topdown_map(scene, size=size, path=episode.path, people=people)

@@ -60,7 +60,7 @@ import copy
 import os
 import threading
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -542,6 +542,24 @@ class Episode:
         if self.observing.segmentation:
             out["segmentation"] = renderer.segmentation(who)
         return out
+
+    def in_between(self, frames: int) -> Iterator[float]:
+        """Pose the people as they were at each of the ``frames - 1`` moments between the
+        last observation and now (the walk along the swept path, the reach), yielding the
+        share of the step each shows; the world is put back as the step left it at the end,
+        also when the caller stops early. Only the people and what they carry move: the
+        rest of the world shows the step's outcome."""
+        ctx = self.require()
+        bodies = (ctx.agent, ctx.user)
+        try:
+            for i in range(1, frames):
+                t = i / frames
+                for body in bodies:
+                    body.show_motion(t)
+                yield t
+        finally:
+            for body in bodies:
+                body.show_motion(1.0)
 
     def close(self) -> None:
         """Free the renderer (a new one is made for the next frame) and wait for a house

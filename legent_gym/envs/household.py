@@ -135,9 +135,16 @@ class HouseholdEnv(gym.Env):
     * ``agent_radius``, ``agent_height``, ``camera_height``: the agent's body (metres).
     * ``distance_info``: ``info["distance_to_goal"]`` every step (default True; the dense
       reward computes it anyway).
-    * ``render_mode``: ``"rgb_array"`` (a third-person view over the agent) or
-      ``"depth_array"``.
+    * ``render_mode``: ``"rgb_array"`` (a third-person view over the agent),
+      ``"rgb_array_list"`` (the same view at every frame since the last ``render()``:
+      ``frames_per_step`` of them a step) or ``"depth_array"``.
     * ``render_size``: the ``render()`` image's side in pixels (256).
+    * ``frames_per_step``: frames a step is shown in (default 1). With F > 1 each step also
+      poses the people at the F - 1 moments between the last observation and this one (the
+      walk cycle along the swept path, the reach, the handover) and returns those views of
+      the agent's camera in ``info["frames"]`` (RGB, the observation's size; one step is
+      still one observation); ``render_mode="rgb_array_list"`` collects the third-person
+      view of each, and ``legent-gym collect --format video`` puts them in the video.
     * ``task_options``: the task's own arguments: WhereIs takes ``objects`` and
       ``receptacles``, the categories it asks about (``legent_gym.tasks.PAPER_WHERE_IS``
       is LEGENT's four objects on its five receptacle kinds); Custom takes ``order``,
@@ -148,7 +155,7 @@ class HouseholdEnv(gym.Env):
       ``tasks`` (``Legent/Custom-v0``) added later without changing any default episode.
     """
 
-    metadata = {"render_modes": ["rgb_array", "depth_array"], "render_fps": 4}
+    metadata = {"render_modes": ["rgb_array", "rgb_array_list", "depth_array"], "render_fps": 4}
 
     def __init__(self, task: str = "ComeHere", layout: str = "OneRoom", action_type: str = "text", *,
                  width: int | None = None, height: int | None = None, fovy: float | None = None,
@@ -159,7 +166,8 @@ class HouseholdEnv(gym.Env):
                  distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
                  episodes_per_house: int = 1, houses_kept: int = HOUSE_CACHE_SIZE, pin_worker: bool = True,
-                 prepare_ahead: bool | None = None, tasks: str | Path | list | None = None):
+                 prepare_ahead: bool | None = None, tasks: str | Path | list | None = None,
+                 frames_per_step: int = 1):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -168,6 +176,9 @@ class HouseholdEnv(gym.Env):
             raise ValueError(f"reward must be 'sparse' or 'dense', got {reward!r}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']}, got {render_mode!r}")
+        if not isinstance(frames_per_step, int) or isinstance(frames_per_step, bool) or frames_per_step < 1:
+            raise ValueError(f"frames_per_step must be a positive integer, got {frames_per_step!r}")
+        self.frames_per_step = frames_per_step
         #: The core this env's process was pinned to as a vector env's worker (None: not pinned).
         self.worker_core = settle_worker() if pin_worker else None
         preset = CAMERA_PRESETS[camera]
@@ -213,6 +224,8 @@ class HouseholdEnv(gym.Env):
         # The third-person view of render(), made on its first frame, for one world.
         self._view_renderer: Renderer | None = None
         self._view_world: World | None = None
+        #: render_mode "rgb_array_list": the views of the moments within steps since the last render().
+        self._frames_since_render: list[np.ndarray] = []
 
     # -- Gymnasium API -----------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -225,6 +238,7 @@ class HouseholdEnv(gym.Env):
         # The same seed, the same episode, whatever came before (see Episode.begin).
         attempts = self.episode.begin(self.np_random, scene, seed=seed)
         self._n_actions = 0
+        self._frames_since_render = []
         evaluation = self.episode.judge()
         self._last_distance = distance = self.distance_left()
         self._message = self.episode.require_goal().instruction
@@ -254,7 +268,19 @@ class HouseholdEnv(gym.Env):
         texts = [format_action(p) for p in primitives]  # each primitive printed once
         info["action_text"] = ", ".join(texts)
         info["action_results"] = [{"action": t, "ok": r.ok, "reason": r.reason} for t, r in zip(texts, results)]
+        if self.frames_per_step > 1:
+            info["frames"] = self._frames_within_step()
         return self._observation(), reward, bool(terminated), False, info
+
+    def _frames_within_step(self) -> list[np.ndarray]:
+        """The agent's views at the moments between the last observation and this one (and,
+        with render_mode "rgb_array_list", the third-person views of them)."""
+        views = []
+        for _ in self.episode.in_between(self.frames_per_step):
+            views.append(self.episode.views("agent")["rgb"])
+            if self.render_mode == "rgb_array_list":
+                self._frames_since_render.append(self._third_person())
+        return views
 
     def distance_left(self) -> float | None:
         """Geodesic metres to the current sub-goal, or None when nothing measures it."""
@@ -297,6 +323,13 @@ class HouseholdEnv(gym.Env):
         world = self.episode.world
         if self.render_mode is None or world is None:
             return None
+        if self.render_mode == "rgb_array_list":
+            frames, self._frames_since_render = self._frames_since_render, []
+            return [*frames, self._third_person()]
+        return self._third_person(depth=self.render_mode == "depth_array")
+
+    def _third_person(self, depth: bool = False) -> np.ndarray:
+        world = self.episode.require().world
         renderer = self._view_renderer
         if renderer is None or self._view_world is not world:  # a new house since the last frame
             self._close_view()
@@ -304,9 +337,7 @@ class HouseholdEnv(gym.Env):
             self._view_world = world
         a = self.episode.require().agent.state
         camera = FreeCamera((a.x, a.y, 0.8), 4.0, azimuth=a.yaw + 180.0, elevation=-50.0)
-        if self.render_mode == "depth_array":
-            return renderer.depth(camera)
-        return renderer.rgb(camera)
+        return renderer.depth(camera) if depth else renderer.rgb(camera)
 
     def _close_view(self) -> None:
         if self._view_renderer is not None:

@@ -5,10 +5,13 @@ own (so that a user's randomness never shifts the houses an env draws), then ask
 action per step. Scripted users read privileged state (``env.episode.ctx``: both bodies and the
 navigation grid) the way a person in the house would know where things are::
 
-    StandStill()                  never acts (the single-agent env's passive user)
+    StandStill()                  stands where it is (the single-agent env's passive user)
     Wander(speed=0.5)             walks between random points of the house, pausing now and then
     WalkAway(speed=0.5)           heads for the reachable spot farthest from the agent
     ComeTowards(speed=0.5)        walks to the agent and stops about a metre away, facing it
+
+Each of these turns to look at the agent, for a step, when the agent says something (as a
+person does when spoken to), then goes on.
     RepeatInstruction(every=5)    says the instruction at the start and every few steps
                                   (``then=`` another policy for the walking)
 
@@ -40,6 +43,21 @@ class UserPolicy(ABC):
     def reset(self, env, rng: np.random.Generator) -> None:
         """Called after each env reset, before the first ``act``."""
         self.rng = rng
+        self._speech_heard = 0
+
+    def spoken_to(self, env) -> bool:
+        """Whether the agent has said something since this policy last asked."""
+        said = len(env.episode.ctx.speech)
+        new = said > getattr(self, "_speech_heard", 0)
+        self._speech_heard = said
+        return new
+
+    def look_at_speaker(self, env) -> str | None:
+        """A turn towards the agent if it has just spoken and the user is not facing it."""
+        if not self.spoken_to(env):
+            return None
+        ctx = env.episode.ctx
+        return face(ctx.user, ctx.agent.position)
 
     @abstractmethod
     def act(self, env, observation: dict[str, Any]) -> Any:
@@ -77,10 +95,11 @@ def face(body, point, tolerance: float = 15.0) -> str | None:
 
 
 class StandStill(UserPolicy):
-    """Never acts: the user of the single-agent env."""
+    """Stands where it is (the user of the single-agent env, which never asks it); turns to
+    the agent when spoken to."""
 
     def act(self, env, observation):
-        return None
+        return self.look_at_speaker(env)
 
 
 class _Walker(UserPolicy):
@@ -117,6 +136,10 @@ class Wander(_Walker):
         self.pause = float(pause)
 
     def act(self, env, observation):
+        turn = self.look_at_speaker(env)
+        if turn is not None:
+            self._asked_from = None
+            return turn
         user, nav = env.episode.ctx.user, env.episode.ctx.nav
         if self.goal is None or self._blocked(user) or math.dist(user.position, self.goal) < ARRIVED:
             cells = np.argwhere(nav.labels == nav.component(tuple(user.position)))
@@ -138,6 +161,10 @@ class WalkAway(_Walker):
         self._agent_seen_at: np.ndarray | None = None
 
     def act(self, env, observation):
+        turn = self.look_at_speaker(env)
+        if turn is not None:
+            self._asked_from = None
+            return turn
         user, agent, nav = env.episode.ctx.user, env.episode.ctx.agent, env.episode.ctx.nav
         if self.goal is None or self._blocked(user) or \
                 float(np.hypot(*(agent.position - self._agent_seen_at))) > 0.5:
@@ -158,6 +185,9 @@ class ComeTowards(_Walker):
         self.stop_distance = float(stop_distance)
 
     def act(self, env, observation):
+        turn = self.look_at_speaker(env)
+        if turn is not None:
+            return turn
         user, agent = env.episode.ctx.user, env.episode.ctx.agent
         gap = user.horizontal_distance(agent.position)
         if gap <= self.stop_distance:

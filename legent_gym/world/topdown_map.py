@@ -6,7 +6,7 @@ from __future__ import annotations
 import math
 import os
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import cv2
@@ -82,10 +82,13 @@ def _asset_name(asset_id: str) -> str:
 
 
 def draw_topdown_map(scene: Scene, *, size: int = 800, path: Sequence[Sequence[float]] | None = None,
-                     navgrid: NavGrid | None = None, labels: bool = True) -> np.ndarray:
+                     navgrid: NavGrid | None = None, labels: bool = True,
+                     people: Mapping[str, Sequence[float]] | None = None) -> np.ndarray:
     """An RGB image (H, W, 3) uint8 of the scene seen from above; its longer side is about
     ``size`` pixels. ``path``: points to draw as a polyline; ``navgrid``: walkable cells are
-    tinted."""
+    tinted; ``people``: ``{"agent": (x, y, yaw), "user": (x, y, yaw)}`` where to draw the
+    people (default: their spawns in the scene), each as a person seen from above
+    (shoulders, head, nose) with an arrow along the heading."""
     view = _View(scene, size)
     img = np.full((view.h, view.w, 3), BACKGROUND, dtype=np.uint8)
     for room in scene.rooms:
@@ -102,7 +105,10 @@ def draw_topdown_map(scene: Scene, *, size: int = 800, path: Sequence[Sequence[f
         cv2.polylines(img, [view.px(path)], False, PATH, 2, cv2.LINE_AA)
         for p in path:
             cv2.circle(img, view.pt(p), 3, PATH, -1, cv2.LINE_AA)
-    _draw_spawns(img, view, scene)
+    if people is None:
+        people = {name: (*spawn.position, spawn.yaw) for name, spawn in (("agent", scene.agent), ("user", scene.user))
+                  if spawn is not None}
+    _draw_people(img, view, people)
     return img
 
 
@@ -185,16 +191,25 @@ def _draw_objects(img: np.ndarray, view: _View, scene: Scene, labels: bool) -> N
             _label(img, _asset_name(obj.asset), (p[0], p[1] - 8), 0.3)
 
 
-def _draw_spawns(img: np.ndarray, view: _View, scene: Scene) -> None:
-    r = max(4, int(round(0.25 * view.scale)))
-    for spawn, colour, name in ((scene.agent, AGENT, "agent"), (scene.user, USER, "user")):
-        if spawn is None:
-            continue
-        p = view.pt(spawn.position)
-        cv2.circle(img, p, r, colour, -1, cv2.LINE_AA)
-        yaw = math.radians(spawn.yaw)
-        tip = np.asarray(spawn.position) + 0.5 * np.array([math.cos(yaw), math.sin(yaw)])
-        cv2.arrowedLine(img, p, view.pt(tip), colour, 2, cv2.LINE_AA, tipLength=0.35)
+def _draw_people(img: np.ndarray, view: _View, people: Mapping[str, Sequence[float]]) -> None:
+    """Each person from above: an ellipse across the shoulders, the head, a nose, and an
+    arrow along the heading."""
+    for name, pose in people.items():
+        colour = AGENT if name == "agent" else USER
+        x, y, yaw_deg = float(pose[0]), float(pose[1]), float(pose[2])
+        yaw = math.radians(yaw_deg)
+        forward, left = np.array([math.cos(yaw), math.sin(yaw)]), np.array([-math.sin(yaw), math.cos(yaw)])
+        centre = np.array([x, y])
+        shoulders = [centre + 0.22 * left * math.cos(a) + 0.11 * forward * math.sin(a)
+                     for a in np.linspace(0, 2 * math.pi, 24, endpoint=False)]
+        cv2.fillPoly(img, [view.px(shoulders)], colour, cv2.LINE_AA)
+        cv2.circle(img, view.pt(centre), max(2, int(round(0.1 * view.scale))), (40, 40, 40), -1, cv2.LINE_AA)
+        cv2.circle(img, view.pt(centre + 0.1 * forward), max(1, int(round(0.03 * view.scale))), (40, 40, 40), -1,
+                   cv2.LINE_AA)
+        cv2.arrowedLine(img, view.pt(centre + 0.15 * forward), view.pt(centre + 0.6 * forward), colour, 2,
+                        cv2.LINE_AA, tipLength=0.35)
+        r = max(4, int(round(0.25 * view.scale)))
+        p = view.pt(centre)
         _label(img, name, (p[0], p[1] + r + 8), 0.4)
 
 
