@@ -30,7 +30,6 @@ built-in asset.
 from __future__ import annotations
 
 import base64
-import dataclasses
 import hashlib
 import io
 import json
@@ -193,33 +192,16 @@ def _r(value: float) -> float:
     return round(float(value), 4) + 0.0  # + 0.0: no -0.0
 
 
-def _turned(model: Any, yaw: float) -> Any:
-    """The model turned by ``yaw`` degrees about z, its footprint centred again."""
-    if yaw % 360 == 0:
-        return model
-    t = math.radians(yaw)
-    rot = np.array([[math.cos(t), -math.sin(t), 0.0], [math.sin(t), math.cos(t), 0.0], [0.0, 0.0, 1.0]])
-    matrix = np.eye(4)
-    matrix[:3, :3] = rot
-    links = [dataclasses.replace(link, parts=[p.transformed(matrix) for p in link.parts]) for link in model.links]
-    turned = dataclasses.replace(model, links=links, receptacles=[])
-    lo, hi = turned.bounds()
-    shift = np.eye(4)
-    shift[:2, 3] = -(lo[:2] + hi[:2]) / 2
-    links = [dataclasses.replace(link, parts=[p.transformed(shift) for p in link.parts]) for link in turned.links]
-    return dataclasses.replace(turned, links=links)
-
-
 def import_model(path: Path, up_axis: str = "y", semantics: Semantics | None = None, yaw: float = 0.0) -> Any:
     """The asset as imported with these annotations and turned by ``yaw``."""
-    from legent_gym.world.assets.gltf import load_gltf
+    from legent_gym.world.assets.gltf import load_gltf, turned_model
 
     kwargs: dict[str, Any] = {}
     if semantics is not None:
         placement = "surface" if semantics.on_object else "wall"
         kwargs = {"category": semantics.category, "names": [semantics.name.lower()],
                   "pickupable": semantics.pickable, "mass": semantics.mass, "placement": placement}
-    return _turned(load_gltf(path, up_axis=up_axis, receptacles=[], **kwargs), yaw)
+    return turned_model(load_gltf(path, up_axis=up_axis, receptacles=[], **kwargs), yaw)
 
 
 def geometry_of(path: Path, yaw: float = 0.0) -> Geometry:
@@ -318,9 +300,11 @@ def register_annotation(annotation: AssetAnnotation | str | Path, asset_id: str 
     """Register an annotated asset (an annotation, or its JSON file, whose ``source`` is
     resolved against the file's folder) under ``asset_id`` (default: its category); returns
     the id. Without semantics the asset keeps the importer's defaults (category from the
-    file name)."""
+    file name). The model is the one a scene's ``assets`` entry from
+    :func:`imported_asset` builds, and the registry keeps that entry: a generator that
+    places the asset writes it into the scene, so the scene rebuilds it in any process."""
     from legent_gym.world.assets import registry
-    from legent_gym.world.assets.model import Receptacle
+    from legent_gym.world.assets.gltf import load_imported_asset
 
     base = Path.cwd()
     if not isinstance(annotation, AssetAnnotation):
@@ -328,20 +312,38 @@ def register_annotation(annotation: AssetAnnotation | str | Path, asset_id: str 
         annotation = AssetAnnotation.model_validate_json(file.read_text(encoding="utf-8"))
         base = file.parent
     source = Path(annotation.source)
-    path = source if source.is_absolute() else base / source
+    path = (source if source.is_absolute() else base / source).resolve()
+    entry = imported_asset(annotation, path, asset_id)
+    model = load_imported_asset(entry, path.parent)
+    registry.register(entry.id, lambda rng: model, replace=replace, imported=entry)
+    return entry.id
+
+
+def imported_asset(annotation: AssetAnnotation, path: Path, asset_id: str | None = None) -> Any:
+    """The scene ``assets`` entry (:class:`~legent_gym.world.scene.ImportedAsset`, with the
+    absolute ``path`` as its source) that builds an annotated asset: up axis, turn, size
+    (the file's own, before the turn), category, names, pickable, mass, placement
+    (``on_object``: surface; else wall) and the surfaces as receptacles (those of a
+    receptacle; without semantics, of a thing that is not pickable)."""
+    from legent_gym.world.assets.gltf import load_gltf
+    from legent_gym.world.scene import ImportedAsset, ImportedSurface
+
     semantics = annotation.semantics
-    model = import_model(path, annotation.geometry.up_axis, semantics, annotation.yaw)
-    receptacle = (semantics.receptacle if semantics is not None else not model.pickupable)
-    if receptacle:
-        model = dataclasses.replace(model, receptacles=[
-            Receptacle(f"surface_{i}", s.center, s.half_size, s.height)
-            for i, s in enumerate(annotation.geometry.surfaces)])
-    if semantics is not None and not semantics.on_object and not semantics.on_wall:
-        model = dataclasses.replace(model, placement="wall")  # a floor piece: against a wall
-    asset_id = asset_id or model.category
-    named = dataclasses.replace(model, asset_id=asset_id)
-    registry.register(asset_id, lambda rng: named, replace=replace)
-    return asset_id
+    up = annotation.geometry.up_axis
+    kwargs: dict[str, Any] = {}
+    if semantics is not None:
+        kwargs = {"category": semantics.category, "names": [semantics.name.lower()],
+                  "pickupable": semantics.pickable, "mass": semantics.mass,
+                  "placement": "surface" if semantics.on_object else "wall"}
+    plain = load_gltf(path, up_axis=up, receptacles=[], **kwargs)
+    lo, hi = plain.bounds()
+    receptacle = semantics.receptacle if semantics is not None else not plain.pickupable
+    surfaces = [ImportedSurface(name=f"surface_{i}", center=s.center, half_size=s.half_size, height=s.height)
+                for i, s in enumerate(annotation.geometry.surfaces)] if receptacle else []
+    return ImportedAsset(id=asset_id or plain.category, source=str(path), size=(float(hi[0] - lo[0]), float(hi[1] - lo[1]), float(hi[2] - lo[2])),
+                         up_axis=up, category=plain.category, names=list(kwargs.get("names", [])),
+                         pickupable=plain.pickupable, mass=plain.mass, yaw=int(round(annotation.yaw)) % 360,
+                         placement=plain.placement, receptacles=surfaces)
 
 
 def write_annotation(annotation: AssetAnnotation, out: str | Path) -> None:

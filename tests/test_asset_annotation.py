@@ -115,7 +115,8 @@ def test_the_annotated_asset_is_placed_by_the_generator_and_rendered(tmp_path):
         assert check_house(scene) == [] and solved.report.unmet == []
         [box] = [o for o in scene.objects if o.asset == asset_id]
         assert [o.on for o in scene.objects if o.asset == "apple"] == [box.id]  # on the annotated surface
-        env = HouseholdEnv("ComeHere", scene=scene, width=32, height=32)
+        # Built from the registry, as in the process that registered it (no entry).
+        env = HouseholdEnv("ComeHere", scene=scene.model_copy(update={"assets": []}), width=32, height=32)
         env.reset(seed=0)
         world = env.episode.world
         assert world is not None
@@ -190,3 +191,151 @@ def test_an_annotated_asset_goes_from_the_cli_into_a_plan_a_scene_and_generated_
     finally:
         if registry.has("storage_box"):
             registry.unregister("storage_box")
+
+
+# -- a scene that uses an annotated asset carries it -------------------------------------------
+
+FRESH = r"""
+import json, sys
+import numpy as np
+import gymnasium as gym
+import legent_gym  # noqa: F401  (registers the envs)
+from legent_gym.world.assets import registry
+from legent_gym.world.render import Renderer
+from legent_gym.world.scene import load_scene
+
+path, box_id, apple_id = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
+assert not registry.has("storage_box")  # nothing registered in this process
+env = gym.make("Legent/ComeHere-OneRoom-v0", scene=path, width=32, height=32)
+env.reset(seed=0)
+world = env.unwrapped.episode.world
+box = world.assets[box_id]
+lo, hi = box.bounds()
+renderer = Renderer(world, 96, 96)
+try:
+    seen = renderer.segmentation("topdown")
+    rgb = renderer.rgb("topdown")
+finally:
+    renderer.close()
+position = world.data.xpos[world.model.body(f"obj_{box_id}").id].tolist()
+apple = world.data.xpos[world.model.body(f"obj_{apple_id}").id].tolist()
+env.close()
+print(json.dumps({"category": box.category, "size": (hi - lo).tolist(), "placement": box.placement,
+                  "receptacles": [[*r.center, *r.half_size, r.height] for r in box.receptacles],
+                  "pixels": int((seen == box_id).sum()), "rgb_mean": float(rgb.mean()), "position": position,
+                  "apple": apple}))
+"""
+
+
+def _fresh(*args, cwd):
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, *args], capture_output=True, text=True, timeout=600, cwd=cwd)
+    assert done.returncode == 0, done.stderr[-3000:]
+    return done.stdout
+
+
+@needs_samples
+@pytest.mark.parametrize("sample", ["Box.gltf", "crate.glb"])
+def test_a_generated_scene_carries_its_annotated_asset_into_a_fresh_process(tmp_path, sample):
+    """asset annotate -> generate --plan --asset -> the scene file alone, in a fresh python:
+    the box is imported from the scene's own entry (turned, sized, its surface a receptacle),
+    stands where the generator put it, renders the same, and an expert puts the apple on it
+    (tasks generate with no --asset, in a fresh python). The shared Box.gltf, and a 0.8 x
+    0.5 x 0.4 m crate whose front the VLM finds in view 1 (turned a quarter)."""
+    from legent_gym.annotation import AssetAnnotation
+    from legent_gym.world.assets.gltf import scene_asset_model
+    from legent_gym.world.render import Renderer
+    from legent_gym.world.scene import load_scene
+
+    if sample == "crate.glb":
+        import trimesh
+
+        source = tmp_path / "models" / "crate.glb"
+        source.parent.mkdir()
+        trimesh.creation.box((0.8, 0.5, 0.4)).export(source)  # glTF frame: y up
+    else:
+        source = SHARED_GLTF / sample
+    with ReplayServer([("reply", json.dumps(REPLY))]) as server:
+        assert _annotate(source, tmp_path / "box.json", tmp_path / "cache", *_llm(server.url)) == 0
+    annotation = AssetAnnotation.model_validate_json((tmp_path / "box.json").read_text())
+    plan = {"version": 1, "rooms": [{"name": "living", "type": "living room", "size": 16, "objects": [
+        {"name": "box", "asset": "storage box", "relations": [{"kind": "against_wall"}]},
+        {"name": "apple", "on": "sofa"}, {"name": "sofa"}]}]}
+    (tmp_path / "plan.json").write_text(json.dumps(plan))
+    out = tmp_path / "house" / "scene.json"
+    out.parent.mkdir()
+    try:
+        assert main(["generate", "--plan", str(tmp_path / "plan.json"), "--asset", str(tmp_path / "box.json"),
+                     "--seed", "0", "--out", str(out)]) == 0
+        # The scene file: the entry carries the annotation; the glTF is copied beside it.
+        data = json.loads(out.read_text())
+        [entry] = data["assets"]
+        assert entry["id"] == "storage_box" and entry["source"] == f"scene_assets/storage_box/{sample}"
+        assert (out.parent / entry["source"]).read_bytes() == source.read_bytes()
+        assert entry["yaw"] == annotation.yaw == 270 and entry["up_axis"] == annotation.geometry.up_axis
+        assert entry["category"] == "storage_box" and entry["names"] == ["storage box"]
+        assert entry["pickupable"] is False and entry["mass"] == 3.0 and entry["placement"] == "wall"
+        assert [(r["center"], r["half_size"], r["height"]) for r in entry["receptacles"]] == \
+            [(list(s.center), list(s.half_size), s.height) for s in annotation.geometry.surfaces]
+        scene = load_scene(out)
+        [box] = [o for o in scene.objects if o.asset == "storage_box"]
+        [apple] = [o for o in scene.objects if o.asset == "apple"]
+        # Here, where the asset is registered: the model and the render to compare with (the
+        # entry builds the registered model).
+        registered = registry.make("storage_box", box.variant)
+        if sample == "crate.glb":  # turned a quarter: the width along y
+            lo, hi = registered.bounds()
+            assert hi - lo == pytest.approx((0.4, 0.8, 0.5), abs=1e-3)
+        assert scene_asset_model(scene, "storage_box").bounds() == pytest.approx(registered.bounds(), abs=1e-9)
+        from legent_gym.envs.household import HouseholdEnv
+
+        # Built from the registry, as in the process that registered it (no entry).
+        env = HouseholdEnv("ComeHere", scene=scene.model_copy(update={"assets": []}), width=32, height=32)
+        env.reset(seed=0)
+        world = env.episode.world
+        renderer = Renderer(world, 96, 96)
+        try:
+            here_pixels = int((renderer.segmentation("topdown") == box.id).sum())
+            here_rgb = float(renderer.rgb("topdown").mean())
+        finally:
+            renderer.close()
+        here_position = world.data.xpos[world.model.body(f"obj_{box.id}").id].tolist()
+        env.close()
+    finally:
+        registry.unregister("storage_box")
+
+    # A fresh python with the scene file alone.
+    there = json.loads(_fresh("-c", FRESH, str(out), str(box.id), str(apple.id), cwd=tmp_path).splitlines()[-1])
+    lo, hi = registered.bounds()
+    assert there["category"] == "storage_box" and there["placement"] == "wall"
+    assert there["size"] == pytest.approx((hi - lo).tolist(), abs=1e-6)
+    assert np.allclose(there["receptacles"], [[*r.center, *r.half_size, r.height] for r in registered.receptacles])
+    assert len(there["receptacles"]) == len(annotation.geometry.surfaces) == 1
+    assert there["position"] == pytest.approx(here_position, abs=1e-6)
+    assert there["pixels"] == here_pixels > 20 and there["rgb_mean"] == pytest.approx(here_rgb, abs=1e-6)
+
+    # An expert puts the apple on the box, in a fresh python, with no --asset.
+    task = {"kind": "put", "instruction": "Put the apple on the storage box.", "target": apple.id,
+            "receptacle": box.id, "code": f"goto({apple.id}) target({apple.id}) interact() goto({box.id}) "
+                                          f"target({box.id}) interact()"}
+    with ReplayServer([("reply", json.dumps({"tasks": [task]}))]) as server:
+        _fresh("-m", "legent_gym.cli", "tasks", "generate", str(out), "--n", "1", "--llm-base-url", server.url,
+               "--model", "m", "--retries", "0", "--out", str(tmp_path / "tasks.jsonl"), cwd=tmp_path)
+    [record] = [json.loads(line) for line in (tmp_path / "tasks.jsonl").read_text().splitlines()[1:]]
+    assert record["status"] == "kept", record
+
+
+def test_imported_asset_entries_without_annotation_fields_keep_their_meaning():
+    from pydantic import ValidationError
+
+    from legent_gym.world.scene import ImportedAsset
+
+    old = ImportedAsset.model_validate({"id": "chair", "source": "models/chair.glb", "size": [0.5, 0.5, 0.9]})
+    assert old.yaw == 0 and old.placement is None and old.receptacles is None  # the importer's defaults
+    with pytest.raises(ValidationError, match="yaw must be 0, 90, 180 or 270"):
+        ImportedAsset.model_validate({"id": "chair", "source": "chair.glb", "yaw": 45})
+    with pytest.raises(ValidationError, match="half_size"):
+        ImportedAsset.model_validate({"id": "chair", "source": "chair.glb", "receptacles": [
+            {"center": [0, 0], "half_size": [0, 0.2], "height": 0.4}]})

@@ -371,7 +371,10 @@ def asset_local_bounds(scene: Scene | None, obj: ObjectInstance) -> np.ndarray |
             if imported.id == obj.asset:
                 if imported.size is None:
                     return None
-                size = np.asarray(imported.size) * scale
+                size = np.asarray(imported.size, dtype=np.float64)
+                if getattr(imported, "yaw", 0) % 180 == 90:  # the size is the file's, before the turn
+                    size = size[[1, 0, 2]]
+                size = size * scale
                 return np.array([[-size[0] / 2, -size[1] / 2, 0.0], [size[0] / 2, size[1] / 2, size[2]]])
     if not registry.has(obj.asset):
         return None

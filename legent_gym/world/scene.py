@@ -89,6 +89,7 @@ MAX_IMPORTED_ASSETS: Final = 1_000
 MAX_LIGHTS: Final = 100
 MAX_JOINTS: Final = 1_000  # joint positions of one object
 MAX_NAMES: Final = 100  # names of one imported asset
+MAX_RECEPTACLES: Final = 100  # placeable surfaces of one imported asset
 #: Imported-asset files end in one of these.
 ASSET_SUFFIXES: Final = (".gltf", ".glb")
 
@@ -177,19 +178,49 @@ class Window(_Model):
     sill: NonNegative = 0.9
 
 
+class ImportedSurface(_Model):
+    """A placeable rectangle of an imported asset, in the asset's frame after ``yaw``:
+    centre (x, y), half extents and the height of the surface, metres; ``clearance``: the
+    free height above it."""
+
+    name: Identifier | None = None
+    center: Vec2
+    half_size: tuple[Positive, Positive]
+    height: NonNegative
+    clearance: Positive = 1.0
+
+
 class ImportedAsset(_Model):
-    """A user glTF/GLB file used by this scene, with its annotations."""
+    """A user glTF/GLB file used by this scene, with its annotations (what ``legent-gym
+    asset annotate`` finds: the up axis, the turn that makes the front face +y, the
+    placement, the placeable surfaces, category, names, pickable, mass). Fields left out
+    keep the importer's defaults."""
 
     id: Identifier
     source: str = Field(min_length=1, max_length=4096,
                         description="Path to .glb/.gltf, relative to the scene file.")
     size: tuple[Scale, Scale, Scale] | None = Field(default=None,
-                                                    description="Target bounding size (x, y, z), metres.")
+                                                    description="Target bounding size (x, y, z) before the "
+                                                                "turn by yaw, metres.")
     up_axis: Literal["y", "z"] = "y"
     category: str | None = None
     names: list[str] = Field(default_factory=list, max_length=MAX_NAMES)
     pickupable: bool | None = None
     mass: Positive | None = None
+    yaw: int = Field(default=0, description="Quarter turn about z after the import, degrees (0, 90, 180, 270): "
+                                            "an annotation's turn that makes the front face +y.")
+    placement: Literal["wall", "corner", "middle", "surface"] | None = Field(
+        default=None, description="Where generators put it: against a wall, in a corner, in the middle, on a surface.")
+    receptacles: list[ImportedSurface] | None = Field(
+        default=None, max_length=MAX_RECEPTACLES,
+        description="Placeable surfaces (none: not a receptacle); absent: the importer finds its top.")
+
+    @field_validator("yaw")
+    @classmethod
+    def _quarter_turn(cls, yaw: int) -> int:
+        if yaw not in (0, 90, 180, 270):
+            raise ValueError(f"yaw must be 0, 90, 180 or 270 (degrees), got {yaw}")
+        return yaw
 
     @field_validator("source")
     @classmethod
@@ -551,7 +582,59 @@ def check_asset_sources(scene: Scene, base_dir: str | os.PathLike | None = None)
 
 
 def save_scene(scene: Scene, path: str | os.PathLike) -> None:
-    atomic_write_text(path, scene.to_json())
+    """Write a scene file. An imported asset whose source is an absolute path (a generator
+    that used an annotated asset writes those) is written relative to the file's folder;
+    a file outside that folder is first copied into ``<scene file stem>_assets/`` beside
+    it (a .gltf with the buffers and images it names), so the scene file and its folder
+    are all a later process needs."""
+    atomic_write_text(path, portable_scene(scene, Path(path).resolve().parent, Path(path).stem).to_json())
+
+
+def portable_scene(scene: Scene, folder: Path, stem: str) -> Scene:
+    """``scene`` with each absolute imported-asset source made relative to ``folder``
+    (copying files from outside it into ``folder/<stem>_assets/``); unchanged when no
+    source is absolute."""
+    if not any(Path(a.source).is_absolute() for a in scene.assets):
+        return scene
+    assets = []
+    for asset in scene.assets:
+        source = Path(asset.source)
+        if source.is_absolute():
+            target = source.resolve()
+            if not target.is_relative_to(folder):
+                target = _copy_asset_file(target, folder / f"{stem}_assets" / asset.id)
+            asset = asset.model_copy(update={"source": target.relative_to(folder).as_posix()})
+        assets.append(asset)
+    out = scene.model_copy(update={"assets": assets})
+    out.base_dir = scene.base_dir
+    return out
+
+
+def _copy_asset_file(source: Path, folder: Path) -> Path:
+    """Copy a .glb, or a .gltf with the relative buffer and image files it names, into
+    ``folder``; the copy's path."""
+    import shutil
+
+    folder.mkdir(parents=True, exist_ok=True)
+    target = folder / source.name
+    shutil.copyfile(source, target)
+    if source.suffix.lower() == ".gltf":
+        try:
+            doc = json.loads(source.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return target  # the importer names what is wrong with it
+        for entry in [*doc.get("buffers", []), *doc.get("images", [])]:
+            uri = entry.get("uri") if isinstance(entry, dict) else None
+            if not isinstance(uri, str) or _URL_SCHEME.match(uri) or uri.startswith(("/", "\\")):
+                continue
+            from urllib.parse import unquote
+
+            part = (source.parent / unquote(uri)).resolve()
+            if part.is_file() and part.is_relative_to(source.parent.resolve()):
+                dest = folder / part.relative_to(source.parent.resolve())
+                dest.parent.mkdir(parents=True, exist_ok=True)
+                shutil.copyfile(part, dest)
+    return target
 
 
 def scene_base_dir(scene: Scene) -> Path:

@@ -58,6 +58,8 @@ __all__ = [
     "clear_cache",
     "load_gltf",
     "load_imported_asset",
+    "scene_asset_model",
+    "turned_model",
     "register_gltf",
 ]
 
@@ -199,10 +201,56 @@ def load_imported_asset(asset, base_dir: str | Path) -> AssetModel:
         if not inside:
             raise AssetImportError(f"{path}: leads out of the scene's folder {base} (to "
                                    f"{path.resolve()}); a scene refers only to files in its own folder")
+    given = getattr(asset, "receptacles", None)
     model = load_gltf(path, size=asset.size, up_axis=asset.up_axis, category=asset.category,
                       names=list(asset.names) or None, pickupable=asset.pickupable,
-                      mass=asset.mass)
+                      mass=asset.mass, placement=getattr(asset, "placement", None),
+                      receptacles=None if given is None else [])
+    model = turned_model(model, getattr(asset, "yaw", 0))
+    if given is not None:
+        model = dataclasses.replace(model, receptacles=[
+            Receptacle(r.name or f"surface_{i}", tuple(r.center), tuple(r.half_size), r.height,
+                       clearance=r.clearance) for i, r in enumerate(given)])
     return model if model.asset_id == asset.id else dataclasses.replace(model, asset_id=asset.id)
+
+
+def turned_model(model: AssetModel, yaw: float) -> AssetModel:
+    """``model`` turned by ``yaw`` degrees about z, its footprint centred again; its
+    receptacles turn with it (on a quarter turn; on another turn they are dropped)."""
+    if yaw % 360 == 0:
+        return model
+    t = math.radians(yaw)
+    c, s = math.cos(t), math.sin(t)
+    rot = np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    matrix = np.eye(4)
+    matrix[:3, :3] = rot
+    links = [dataclasses.replace(link, parts=[p.transformed(matrix) for p in link.parts]) for link in model.links]
+    turned = dataclasses.replace(model, links=links, receptacles=[])
+    lo, hi = turned.bounds()
+    shift = np.eye(4)
+    shift[:2, 3] = -(lo[:2] + hi[:2]) / 2
+    links = [dataclasses.replace(link, parts=[p.transformed(shift) for p in link.parts]) for link in turned.links]
+    receptacles = []
+    if yaw % 90 == 0:
+        quarter = yaw % 180 == 90
+        for r in model.receptacles:
+            x, y = rot[:2, :2] @ np.asarray(r.center, dtype=np.float64) + shift[:2, 3]
+            half = (r.half_size[1], r.half_size[0]) if quarter else (r.half_size[0], r.half_size[1])
+            receptacles.append(dataclasses.replace(r, center=(float(x), float(y)), half_size=half))
+    return dataclasses.replace(turned, links=links, receptacles=receptacles)
+
+
+def scene_asset_model(scene: Any, asset_id: str, variant: int = 0) -> AssetModel:
+    """The model of an asset id as a scene uses it: its ``assets`` entry (the import) if it
+    declares one, else the registry's."""
+    for entry in scene.assets:
+        if entry.id == asset_id:
+            from legent_gym.world.scene import scene_base_dir
+
+            return load_imported_asset(entry, scene_base_dir(scene))
+    from legent_gym.world.assets import registry
+
+    return registry.make(asset_id, variant)
 
 
 def clear_cache() -> None:

@@ -16,6 +16,7 @@ import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
 
@@ -29,6 +30,9 @@ class AssetEntry:
     asset_id: str
     factory: AssetFactory
     builtin: bool
+    #: The scene ``assets`` entry (an ImportedAsset) that builds this asset from its file,
+    #: for an asset registered from an annotated glTF; None for the others.
+    imported: Any = None
 
 
 _ENTRIES: dict[str, AssetEntry] = {}
@@ -39,14 +43,24 @@ class UnknownAssetError(KeyError):
         return self.args[0]
 
 
-def register(asset_id: str, factory: AssetFactory, *, builtin: bool = False, replace: bool = False) -> None:
-    """Make ``asset_id`` usable in scenes. ``replace=True`` overrides an existing id."""
+def register(asset_id: str, factory: AssetFactory, *, builtin: bool = False, replace: bool = False,
+             imported: Any = None) -> None:
+    """Make ``asset_id`` usable in scenes. ``replace=True`` overrides an existing id.
+    ``imported``: the scene ``assets`` entry (:class:`~legent_gym.world.scene.ImportedAsset`)
+    that builds the same model from its file; generators write it into the scenes that use
+    the asset (see :func:`imported_entry`)."""
     if not asset_id or not isinstance(asset_id, str):
         raise ValueError("asset id must be a non-empty string")
     if asset_id in _ENTRIES and not replace:
         raise ValueError(f"asset id {asset_id!r} is already registered (pass replace=True to override)")
-    _ENTRIES[asset_id] = AssetEntry(asset_id, factory, builtin)
+    _ENTRIES[asset_id] = AssetEntry(asset_id, factory, builtin, imported)
     make.cache_clear()
+
+
+def imported_entry(asset_id: str) -> Any:
+    """The scene ``assets`` entry registered with ``asset_id`` (None: none, or no such id)."""
+    entry = _ENTRIES.get(asset_id)
+    return None if entry is None else entry.imported
 
 
 def unregister(asset_id: str) -> None:

@@ -847,7 +847,10 @@ class _Solver:
         except AttemptFailed as err:
             raise _AttemptFailed(str(err)) from None
         _, objects, ids = scene_objects(fp, f.pieces, placer.placed)
-        scene = Scene(**base, objects=objects, agent=agent, user=user)
+        # An annotated asset goes with its import entry, so that the scene rebuilds it anywhere.
+        entries = {a: registry.imported_entry(a) for a in sorted({o.asset for o in objects})}
+        scene = Scene(**base, objects=objects, agent=agent, user=user,
+                      assets=[e for e in entries.values() if e is not None])
         problems = check_house(scene, nav, reach=REACH)
         if problems:
             raise _AttemptFailed("the house fails its checks: " + "; ".join(problems[:3]))

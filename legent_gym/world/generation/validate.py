@@ -16,6 +16,7 @@ from itertools import combinations
 import numpy as np
 
 from legent_gym.world.assets import registry
+from legent_gym.world.assets.gltf import scene_asset_model
 from legent_gym.world.geometry import (
     bounding_box,
     boxes_overlap,
@@ -141,9 +142,9 @@ def find_receptacle(scene: Scene, support: ObjectInstance, obj: ObjectInstance,
                     footprint: np.ndarray | None) -> tuple[int, np.ndarray] | None:
     """(receptacle index, world corners) of the base-link receptacle of ``support`` that
     ``obj`` rests on: the one at its height holding the object's footprint centre."""
-    if not registry.has(support.asset):
+    if not registry.has(support.asset) and all(a.id != support.asset for a in scene.assets):
         return None
-    model = registry.make(support.asset, support.variant)
+    model = scene_asset_model(scene, support.asset, support.variant)
     s = np.asarray(support.scale)
     best = None
     for k, rec in enumerate(model.receptacles):
