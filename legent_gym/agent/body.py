@@ -108,6 +108,8 @@ class Body:
         self._walking = False
         self._reach: IKSolution | None = None
         self._carry_pose: tuple[tuple[int, bool], Keyframe] | None = None
+        #: The object this step picked up and where it lay (shown there until the hand gets there).
+        self._picked_from: tuple[int, np.ndarray] | None = None
         self.motion = MotionLog(self.keyframe())
         self._sync()
 
@@ -199,10 +201,21 @@ class Body:
         world = self.world
         world.set_body_pose(self.name, frame.x, frame.y, frame.yaw, frame.pitch)
         self.animator.show(world.data, frame, shuffle=shuffle, reach_share=reach_share)
-        if self.state.held is not None:
-            self._carry(frame)
+        held = self.state.held
+        if held is not None:
+            picked = self._picked_from
+            if frame.carry is None and picked is not None and picked[0] == held:
+                self._lay(held, picked[1])  # still reaching for it: where it lay
+            else:
+                self._carry(frame)
         mujoco.mj_kinematics(world.model, world.data)
         mujoco.mj_camlight(world.model, world.data)
+
+    def _lay(self, item: int, qpos: np.ndarray) -> None:
+        model = self.world.model
+        joint = model.body_jntadr[self.world.object_body[item]]
+        adr = model.jnt_qposadr[joint]
+        self.world.data.qpos[adr:adr + 7] = qpos
 
     def batched(self) -> _Batch:
         """A context manager: several moves and turns with one update of the world at the end.
@@ -223,6 +236,7 @@ class Body:
                 self._walking, self._reach = False, None
                 self._unsynced = True  # the idle pose is due, even if nothing moves
             self.motion = MotionLog(self.keyframe())
+            self._picked_from = None
         self._batch_depth += 1
 
     def end_batch(self) -> None:
@@ -393,6 +407,9 @@ class Body:
             return Outcome(False, "that is a door: it cannot be picked up")
         if self.world.scene.object(hit.object_id).kind != "interactable":
             return Outcome(False, f"object {_names(self.world, hit.object_id)} cannot be picked up")
+        model = self.world.model
+        adr = model.jnt_qposadr[model.body_jntadr[self.world.object_body[hit.object_id]]]
+        self._picked_from = (hit.object_id, self.world.data.qpos[adr:adr + 7].copy())
         self.state.held = hit.object_id
         self._set_collisions(hit.object_id, enabled=False)
         self._carry()

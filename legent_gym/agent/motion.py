@@ -52,7 +52,7 @@ IK_DAMPING = 0.03
 IK_ITERATIONS = 40
 IK_TOLERANCE = 0.005
 #: The shoulder twists the closed-form starting poses try (radians, the twist's range).
-TWISTS = tuple(np.linspace(-1.39, 1.57, 17))
+TWISTS_ARRAY = np.linspace(-1.39, 1.57, 17)
 #: A target counts as reachable within this share of the straight arm's length.
 REACH_MARGIN = 0.995
 
@@ -85,6 +85,8 @@ class ArmIK:
         self._qpos = {s: self.writer.addresses[list(ARM_JOINTS[s])] for s in ARM_JOINTS}
         self._low = {s: JOINT_LOW[list(ARM_JOINTS[s])] for s in ARM_JOINTS}
         self._high = {s: JOINT_HIGH[list(ARM_JOINTS[s])] for s in ARM_JOINTS}
+        #: towards() by side and target (to the millimetre): carry poses repeat every episode.
+        self._memo: dict[tuple, IKSolution] = {}
 
     def hand(self, side: str, angles: np.ndarray) -> np.ndarray:
         """Where the hand site is for these arm angles (forward kinematics)."""
@@ -122,6 +124,17 @@ class ArmIK:
         straight, reaches on the way to it (what a person shows when trying): the pose is
         returned with ``ok`` False and the reason."""
         target = np.asarray(target, dtype=float)
+        key = (side, *np.round(target, 3).tolist()) if start is None else None
+        found = self._memo.get(key) if key is not None else None
+        if found is None:
+            found = self._towards(side, target, start)
+            if key is not None:
+                if len(self._memo) >= 4096:
+                    self._memo.clear()
+                self._memo[key] = found
+        return found
+
+    def _towards(self, side: str, target: np.ndarray, start: np.ndarray | None) -> IKSolution:
         shoulder = self.proportions.shoulder(side)
         offset = target - shoulder
         span = float(np.linalg.norm(offset))
@@ -151,22 +164,22 @@ class ArmIK:
         cos_e = (d @ d - a * a - b * b) / (2 * a * b)
         elbow = math.acos(min(max(cos_e, -1.0), 1.0))
         s = 1.0 if side == "left" else -1.0
-        bent = np.array([b * math.sin(elbow), 0.0, -a - b * math.cos(elbow)])  # twist 0, shoulder at rest
-        guesses: list[tuple[float, float, int, np.ndarray]] = []
-        for twist in TWISTS:
-            c, sn = math.cos(s * twist), math.sin(s * twist)
-            w = np.array([c * bent[0] - sn * bent[1], sn * bent[0] + c * bent[1], bent[2]])
-            rest = w @ w - w[0] ** 2 - d[1] ** 2
-            if rest < 0:
-                continue
-            for pz in (-math.sqrt(rest), math.sqrt(rest)):
-                abduct = s * (math.atan2(pz, d[1]) - math.atan2(w[2], w[1]))
-                flex = math.atan2(w[0], pz) - math.atan2(d[0], d[2])
-                q = np.array([_wrap(flex), _wrap(abduct), twist, elbow])
-                outside = float(np.sum(np.maximum(self._low[side] - q, 0) + np.maximum(q - self._high[side], 0)))
-                guesses.append((round(outside, 3), abs(twist), len(guesses), q))
-        for *_, q in sorted(guesses, key=lambda g: g[:3]):
-            yield np.clip(q, self._low[side], self._high[side])
+        # The bent arm (twist 0, shoulder at rest) turned by each twist, all at once.
+        bx, bz = b * math.sin(elbow), -a - b * math.cos(elbow)
+        twists = TWISTS_ARRAY
+        wx, wy = np.cos(s * twists) * bx, np.sin(s * twists) * bx
+        rest = wx * wx + wy * wy + bz * bz - wx * wx - d[1] ** 2
+        ok = rest >= 0
+        root = np.sqrt(np.where(ok, rest, 0.0))
+        pz = np.concatenate([-root, root])
+        wx2, wy2, tw2, ok2 = np.tile(wx, 2), np.tile(wy, 2), np.tile(twists, 2), np.tile(ok, 2)
+        abduct = _wrap_array(s * (np.arctan2(pz, d[1]) - np.arctan2(bz, wy2)))
+        flex = _wrap_array(np.arctan2(wx2, pz) - math.atan2(d[0], d[2]))
+        poses = np.stack([flex, abduct, tw2, np.full_like(flex, elbow)], axis=1)[ok2]
+        low, high = self._low[side], self._high[side]
+        outside = (np.maximum(low - poses, 0) + np.maximum(poses - high, 0)).sum(axis=1)
+        order = np.lexsort((np.abs(poses[:, 2]), np.round(outside, 3)))
+        yield from np.clip(poses[order], low, high)
         for guess in ((0.6, 0.2, 0.0, 1.2), (2.0, 0.2, 0.0, 0.4)):
             yield np.array(guess)
 
@@ -193,8 +206,8 @@ class ArmIK:
         return IKSolution(q.copy(), hand, error, error <= 0.02)
 
 
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2 * math.pi) - math.pi
+def _wrap_array(angle: np.ndarray) -> np.ndarray:
+    return (angle + np.pi) % (2 * np.pi) - np.pi
 
 
 @lru_cache(maxsize=32)
