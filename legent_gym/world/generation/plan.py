@@ -92,7 +92,7 @@ DFS_BRANCH = 3  # candidates tried per object before backtracking
 DFS_BUDGET = 60  # commits per room before the search turns greedy
 SUPPORT_PICKS = 8  # assets tried for a piece that planned small objects stand on
 SMALL_TRIES = 12  # assets tried for a small object on the piece the plan names
-STRICT_BUDGET = 60  # commits per room of the search that meets every relation
+STRICT_BUDGET = 150  # commits per room of the search that meets every relation
 ATTEMPTS = 6  # tries at a valid house
 STRICT_ATTEMPTS = 3  # of which the first ones give up on a room that misses a relation
 BUILT_ATTEMPTS = 3  # valid houses built before the one that lacks the fewest planned things is kept
@@ -660,28 +660,44 @@ class _Solver:
         # The later pieces with relations to pieces all placed once k is (forward checking).
         checked = [[j for j in range(k + 1, len(floor)) if refs[j] and refs[j][-1] <= k] for k in range(len(floor))]
         cache: dict[tuple, list] = {}
+        found: dict[tuple, tuple] = {}
 
-        def self_pose(j: int) -> tuple[float, float, int]:
-            return f.pieces[j].x, f.pieces[j].y, f.pieces[j].q
+        def state(k: int) -> tuple:
+            return k, tuple((j, f.pieces[j].x, f.pieces[j].y, f.pieces[j].q) for j in space.pieces)
+
+        def candidates(k: int) -> tuple:
+            """Per state: candidate poses, footprints, front zones, soft score and whether
+            the relations hold (before the hard checks)."""
+            key = state(k)
+            if key not in found:
+                item, (asset, variant, model) = floor[k], picks[k]
+                poses = self.candidates(f, space, item, model, rng)
+                qs = poses[:, 2].astype(np.int64)
+                rects, fronts = f.footprints(item.category, asset, variant, model, poses[:, 0], poses[:, 1], qs)
+                score, met = self.scores(f, space, item, rects[:, 0], qs % 4)
+                score = score + 0.05 * poses[:, 3] / 10.0 + 0.01 * noise[k][np.arange(len(poses)) % len(noise[k])]
+                found[key] = (poses, rects, fronts, score, met, np.array([model.size[2]]))
+            return found[key]
+
+        def can_meet(k: int) -> bool:
+            """Whether piece k has a valid pose meeting its relations, as things stand."""
+            key = state(k)
+            if key in cache:
+                return any(o[5] for o in cache[key])
+            poses, rects, fronts, _, met, tall = candidates(k)
+            idx = np.nonzero(met)[0]
+            return bool(len(idx)) and bool(f.valid(space, rects[idx], fronts[idx], tall).any())
 
         def options(k: int) -> list[tuple[float, float, int, np.ndarray, np.ndarray, bool]]:
-            key = (k, tuple((j, self_pose(j)) for j in space.pieces))
+            """Valid poses of piece k, best soft score first."""
+            key = state(k)
             if key in cache:
                 return cache[key]
-            item, (asset, variant, model) = floor[k], picks[k]
-            poses = self.candidates(f, space, item, model, rng)
-            out: list[tuple[float, float, int, np.ndarray, np.ndarray, bool]] = []
-            if len(poses):
-                xs, ys, qs = poses[:, 0], poses[:, 1], poses[:, 2].astype(np.int64)
-                rects, fronts = f.footprints(item.category, asset, variant, model, xs, ys, qs)
-                ok = f.valid(space, rects, fronts, np.array([model.size[2]]))
-                idx = np.nonzero(ok)[0]
-                if len(idx):
-                    score, met = self.scores(f, space, item, rects[idx, 0], qs[idx] % 4)
-                    score = score + 0.05 * poses[idx, 3] / 10.0 + 0.01 * noise[k][idx % len(noise[k])]
-                    rank = np.argsort(-score, kind="stable")
-                    out = [(float(xs[idx[c]]), float(ys[idx[c]]), int(qs[idx[c]]) % 4, rects[idx[c], 0],
-                            fronts[idx[c], 0], bool(met[c])) for c in rank]
+            poses, rects, fronts, score, met, tall = candidates(k)
+            idx = np.nonzero(f.valid(space, rects, fronts, tall))[0]
+            order = idx[np.argsort(-score[idx], kind="stable")]
+            out = [(float(poses[c, 0]), float(poses[c, 1]), int(poses[c, 2]) % 4, rects[c, 0], fronts[c, 0],
+                    bool(met[c])) for c in order]
             cache[key] = out
             return out
 
@@ -701,7 +717,7 @@ class _Solver:
         def forward_ok(k: int) -> bool:
             """Each later piece whose targets are all placed once k is still has a pose
             meeting its relations."""
-            return all(any(o[5] for o in options(j)) for j in checked[k])
+            return all(can_meet(j) for j in checked[k])
 
         budget = [STRICT_BUDGET]
 
