@@ -57,10 +57,13 @@ def test_people_have_named_parts_joints_and_hand_sites(world):
             jid = model.joint(f"{who}/{joint.name}").id
             assert model.jnt_type[jid] == mujoco.mjtJoint.mjJNT_HINGE and model.jnt_limited[jid]
         geoms = np.flatnonzero(world.geom_segment == PERSON_SEGMENTATION_ID[who])
-        assert 15 <= len(geoms) <= 18
+        # One merged mesh per body that carries geometry: the user's hands are drawn with its
+        # forearms, the agent's apart (its own camera shows them).
+        assert len(geoms) == (12 if who == "agent" else 10)
         assert (model.geom_contype[geoms] == 0).all() and (model.geom_conaffinity[geoms] == 0).all()
         hands = [g for g in geoms if model.geom(g).name.endswith("_hand")]
-        assert len(hands) == 2 and (model.geom_group[hands] == GROUP_HANDS).all()
+        assert len(hands) == (2 if who == "agent" else 0)
+        assert (model.geom_group[hands] == GROUP_HANDS).all()
         own = {GROUP_AGENT: "agent", GROUP_USER: "user"}
         assert {own[int(model.geom_group[g])] for g in geoms if g not in hands} == {who}
 
@@ -273,6 +276,12 @@ def test_the_scripted_user_walks_and_looks_at_the_agent_when_spoken_to():
                 walked = walked or abs(ctx.world.data.qpos[hip]) > 0.05
             assert walked  # the same body, the same walk cycle
         env.close()
+    # Both people walk in the frames within a step of the multi-agent env (the agent's views).
+    env = SingleAgentEnv(ma.parallel_env(task="ComeHere", width=32, height=32, frames_per_step=3), partner="wander")
+    env.reset(seed=1)
+    _, _, _, _, info = env.step("move_forward(0.5)")
+    assert len(info["frames"]) == 2 and info["frames"][0].shape == (32, 32, 3)
+    env.close()
 
 
 def test_a_video_shows_the_frames_within_steps():

@@ -7,7 +7,7 @@ angles of the person's humanoid (:mod:`legent_gym.world.humanoid`) into the worl
 the same images:
 
 * walking: legs and arms swing in phase with the distance walked (one cycle every
-  :data:`STRIDE_CYCLE` body heights), feet kept flat;
+  :data:`STRIDE_CYCLE` body heights);
 * standing: the idle pose (arms loose at the sides); a step that only turned shows the
   idle pose at its end, and a small shuffle in the frames between;
 * the head pitches with ``rotate_down`` (a share of the camera's pitch);
@@ -37,6 +37,7 @@ from legent_gym.world.humanoid import (
     JOINT_INDEX,
     JOINT_LOW,
     JOINTS,
+    ROBOT,
     Appearance,
     PoseWriter,
     proportions,
@@ -210,10 +211,15 @@ def _wrap_array(angle: np.ndarray) -> np.ndarray:
     return (angle + np.pi) % (2 * np.pi) - np.pi
 
 
-@lru_cache(maxsize=32)
 def arm_ik(height: float, look: Appearance) -> ArmIK:
-    """The IK of a person of this height and look (made once, shared by every body)."""
-    return ArmIK(height, look)
+    """The IK of a person of this height and build (made once per build, shared by every
+    body: colours do not change an arm)."""
+    return _arm_ik(height, look.height_scale, look.girth)
+
+
+@lru_cache(maxsize=32)
+def _arm_ik(height: float, height_scale: float, girth: float) -> ArmIK:
+    return ArmIK(height, replace(ROBOT, height_scale=height_scale, girth=girth))
 
 
 # -- poses ---------------------------------------------------------------------------------
@@ -259,7 +265,6 @@ def joint_angles(frame: Keyframe, height: float, *, shuffle: float = 0.0, reach_
             knee = math.radians(8.0 + 42.0 * max(0.0, -sign * math.cos(phase))) * amplitude
             q[_J[f"{side}_hip"]] = hip
             q[_J[f"{side}_knee"]] = knee
-            q[_J[f"{side}_ankle"]] = knee - hip  # the foot stays flat
             q[_J[f"{side}_shoulder_flex"]] = -math.radians(22.0) * amplitude * sign * s
             q[_J[f"{side}_elbow"]] = math.radians(18.0)
     if frame.carry is not None:
@@ -277,7 +282,15 @@ class Animator:
     def __init__(self, model: mujoco.MjModel, who: str, height: float, look: Appearance):
         self.writer = PoseWriter(model, who)
         self.height = height * look.height_scale
-        self.ik = arm_ik(height, look)
+        self._build = (height, look)
+        self._ik: ArmIK | None = None
+
+    @property
+    def ik(self) -> ArmIK:
+        """The person's arm IK (made on first use: a person who never reaches needs none)."""
+        if self._ik is None:
+            self._ik = arm_ik(*self._build)
+        return self._ik
 
     def show(self, data: mujoco.MjData, frame: Keyframe, **kw) -> None:
         """Write the pose of ``frame`` (see :func:`joint_angles`) into ``data.qpos``."""

@@ -15,9 +15,9 @@ What it makes (see ``docs/architecture.md``):
   set directly.
 
 Geom groups (used to show or hide things per view): 0 house and furniture, 1 small
-objects, 2 ceilings and the people's hands (``GROUP_HANDS``: every camera shows them, view
-rays pass through them; free and top-down views leave the ceilings out geom by geom), 3
-collision only (never drawn), 4 the agent's body but its hands, 5 the user's.
+objects, 2 ceilings and the agent's hands (``GROUP_HANDS``: every camera shows them, view rays
+pass through them; free and top-down views leave the ceilings out geom by geom), 3
+collision only (never drawn), 4 the agent's body but its hands, 5 the user's body.
 """
 
 from __future__ import annotations
@@ -53,7 +53,7 @@ from legent_gym.world.scene import Scene, scene_base_dir
 from legent_gym.world.styles import get_style, styled_palette
 
 GROUP_HOUSE, GROUP_OBJECTS, GROUP_CEILING, GROUP_COLLISION, GROUP_AGENT, GROUP_USER = range(6)
-#: The people's hands share the ceilings' group: every head camera shows it and no view ray
+#: The agent's hands share the ceilings' group: every head camera shows it and no view ray
 #: meets it (see the module docstring).
 GROUP_HANDS = GROUP_CEILING
 #: What a person's pixels carry in segmentation images (scene objects carry their ids,
@@ -512,10 +512,14 @@ class _SpecBuilder:
         wb = self.spec.worldbody
         body = wb.add_body(name=name, mocap=True)
         add_humanoid(body, name, opts.height, appearance_for(name, self.scene.seed), body_group=group,
-                     hand_group=GROUP_HANDS)
+                     hand_group=GROUP_HANDS, add_visual=self._person_part, separate_hands=name == "agent")
         head = wb.add_body(name=f"{name}_head", mocap=True, pos=[0, 0, opts.camera_height])
         cam = head.add_camera(name=f"{name}_camera", fovy=opts.fovy)
         cam.pos = [0, 0, 0]
+
+    def _person_part(self, body, link: Link, group: int, name: str) -> None:
+        """A person's part: its link merged into one mesh geom (the parts collide with nothing)."""
+        self._link_geoms(body, link, group=group, name=name, movable=True)
 
     def _add_lights(self) -> None:
         wb = self.spec.worldbody

@@ -11,11 +11,13 @@ placed at the floor and turned to the heading by the environment)::
                     <who>/<side>_hand       site   <who>/<side>_hand
         <who>/<side>_upper_leg              hinge  <who>/<side>_hip
             <who>/<side>_lower_leg          hinge  <who>/<side>_knee
-                <who>/<side>_foot           hinge  <who>/<side>_ankle
+                <who>/<side>_foot
 
-(``<side>`` is ``right`` or ``left``.) Every part is one low-poly primitive or two (a
-capsule, an ellipsoid, a box) so that a person costs a renderer about fifteen small draw
-calls. The avatar is visual only: its geoms collide with nothing and view rays pass
+(``<side>`` is ``right`` or ``left``.) The parts of each body (low-poly tapered cylinders,
+ellipsoids and boxes) are merged into one palette-coloured mesh (:func:`person_links`,
+drawn by the builder); the feet are drawn with the lower legs, and the user's hands with
+its forearms, so that a renderer draws the user in 10 small draw calls and the agent in 12
+(its hands apart, see below). The avatar is visual only: its geoms collide with nothing and view rays pass
 through them; the body that collides is still the swept disc of
 :mod:`legent_gym.agent.body`. Joints are limited hinges; their bodies have gravity
 compensation, so physics (an object settling after ``put``) never moves a limb: only the
@@ -26,18 +28,24 @@ clothing colours and a silhouette come from the scene's seed (:func:`appearance_
 the same scene always shows the same people. The agent has a robot-like look (grey shell,
 dark visor) and is never mistaken for the user.
 
-Geom groups: every part but the hands is in the person's own group (``GROUP_AGENT`` or
-``GROUP_USER``), which that person's head camera hides; the hands are in the group every
-camera shows (``GROUP_HANDS``), so an agent sees its own hands and what it holds.
+Geom groups: every part of the user, and every part of the agent but its hands, is in
+the person's own group (``GROUP_AGENT`` or ``GROUP_USER``), which that person's head
+camera hides; the agent's hands are in the group every camera shows (``GROUP_HANDS``), so
+the agent sees its own hands and what it holds.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
 
 import mujoco
 import numpy as np
+
+from legent_gym.world.assets.model import Link, Part, box_part, cylinder_part, sphere_part
 
 SIDES = ("right", "left")
 #: The limbs' parts, per side: (part, parent part).
@@ -66,7 +74,6 @@ def _side_joints(side: str) -> tuple[Joint, ...]:
         Joint(f"{side}_elbow", f"{side}_lower_arm", (0.0, -1.0, 0.0), (0.0, 150.0)),
         Joint(f"{side}_hip", f"{side}_upper_leg", (0.0, -1.0, 0.0), (-40.0, 100.0)),
         Joint(f"{side}_knee", f"{side}_lower_leg", (0.0, 1.0, 0.0), (0.0, 140.0)),
-        Joint(f"{side}_ankle", f"{side}_foot", (0.0, -1.0, 0.0), (-45.0, 45.0)),
     )
 
 
@@ -170,89 +177,111 @@ def proportions(height: float, girth: float = 1.0) -> Proportions:
                        lower_leg=0.235 * h, head_radius=0.06 * h)
 
 
-_CAPSULE, _ELLIPSOID, _BOX, _SPHERE = (mujoco.mjtGeom.mjGEOM_CAPSULE, mujoco.mjtGeom.mjGEOM_ELLIPSOID,
-                                       mujoco.mjtGeom.mjGEOM_BOX, mujoco.mjtGeom.mjGEOM_SPHERE)
+#: A body's visual, one merged mesh per body: ``add_visual(body, link, group, name)`` (the
+#: builder turns the link's parts into one palette-coloured mesh geom: one draw call).
+AddVisual = Callable[[Any, Link, int, str], None]
 
 
-def add_humanoid(root, who: str, height: float, look: Appearance, *, body_group: int, hand_group: int) -> None:
-    """Add a person's parts, joints and hand sites under ``root`` (an ``MjsBody``: the
-    avatar's root at the floor, facing +x). ``height`` is the body's nominal height;
-    ``look.height_scale`` and ``look.girth`` vary it."""
+@lru_cache(maxsize=64)
+def person_links(height: float, look: Appearance, separate_hands: bool = True) -> dict[str, Link]:
+    """The visual of each part of a person (a :class:`Link` of low-poly parts per body that
+    carries geometry), in that body's frame. The feet are drawn with the lower legs (they
+    have no joint of their own); the hands too unless ``separate_hands`` (the agent's hands
+    are apart so that its own camera can show them and nothing else of it). Cached: the
+    builder's merged meshes of the same links are made once per process."""
     p = proportions(height * look.height_scale, look.girth)
     h, g = p.height, p.girth
     robot = look.silhouette == "robot"
 
-    def geom(body, name: str, kind, size, rgba, *, pos=(0, 0, 0), fromto=None, group: int = body_group):
-        spec = dict(type=kind, rgba=list(rgba), group=group, contype=0, conaffinity=0, name=f"{who}/{name}",
-                    density=300.0)
-        if fromto is not None:
-            spec["fromto"] = list(fromto)
-            spec["size"] = [size, 0, 0]
-        else:
-            spec["size"] = list(size) if isinstance(size, tuple) else [size, 0, 0]
-            spec["pos"] = list(pos)
-        body.add_geom(**spec)
+    def ellipsoid(centre, radii, rgba) -> Part:
+        r = max(radii)
+        return sphere_part(centre, r, rgba, scale=tuple(x / r for x in radii), collision="none")
+
+    def limb(length: float, radius: float, rgba) -> list[Part]:
+        # A tapered cylinder hanging from the joint, with a ball at the far end.
+        return [cylinder_part((0, 0, -length / 2), radius * 0.9, length, rgba, segments=8, collision="none",
+                              radius_top=radius),
+                sphere_part((0, 0, -length), radius * 0.9, rgba, collision="none")]
+
+    lower = look.top if look.silhouette == "skirt" else look.bottom
+    # The torso body sits at the waist; the pelvis is drawn with it (no joint between them).
+    torso = [ellipsoid((0, 0, 0.025 * h - p.waist_z), (0.07 * h * g, 0.1 * h * g, 0.065 * h), lower)]
+    if look.silhouette == "skirt":
+        torso.append(ellipsoid((0, 0, -0.06 * h - p.waist_z), (0.09 * h * g, 0.115 * h * g, 0.11 * h), look.top))
+    if robot:
+        torso.append(box_part((0, 0, 0.14 * h), (0.14 * h, 0.22 * h, 0.26 * h), look.top, collision="none"))
+    else:
+        torso.append(ellipsoid((0, 0, 0.13 * h), (0.075 * h * g, 0.12 * h * g, 0.16 * h), look.top))
+    hr, hz = p.head_radius, p.head_radius * 0.75
+    if robot:
+        head = [box_part((0, 0, hz), (2 * hr, 1.8 * hr, 2.1 * hr), look.skin, collision="none"),
+                box_part((hr, 0, hz + 0.1 * hr), (0.02 * h, 1.5 * hr, 0.7 * hr), look.hair, collision="none")]
+    else:
+        long_hair = look.silhouette == "long_hair"
+        head = [ellipsoid((0.01 * h, 0, hz), (hr * 0.95, hr * 0.85, hr * 1.1), look.skin),
+                ellipsoid((-0.012 * h, 0, hz + (-0.02 * h if long_hair else 0.025 * h)),
+                          (hr, hr * 0.92, hr * (1.2 if long_hair else 0.8)), look.hair)]
+    links = {"torso": Link("torso", torso), "head": Link("head", head)}
+    ankle_z = p.hip_z - p.upper_leg - p.lower_leg
+    for side in SIDES:
+        hand = ellipsoid((0, 0, -0.03 * h), (0.014 * h, 0.028 * h, 0.045 * h), look.skin)
+        fore = limb(p.lower_arm, 0.021 * h * g, look.bottom if robot else look.skin)
+        links[f"{side}_upper_arm"] = Link("upper_arm", limb(p.upper_arm, 0.026 * h * g, look.top))
+        if separate_hands:
+            links[f"{side}_lower_arm"] = Link("lower_arm", fore)
+            links[f"{side}_hand"] = Link("hand", [hand])
+        else:  # the hand in the forearm's frame: the wrist is at the forearm's end
+            links[f"{side}_lower_arm"] = Link("lower_arm", [*fore, _moved(hand, -p.lower_arm)])
+        links[f"{side}_upper_leg"] = Link("upper_leg", limb(p.upper_leg, 0.037 * h * g, look.bottom))
+        foot = box_part((0.035 * h, 0, -p.lower_leg - ankle_z / 2), (0.13 * h, 0.056 * h, ankle_z), look.shoes,
+                        collision="none")
+        shin = limb(p.lower_leg, 0.028 * h * g, look.skin if look.silhouette == "skirt" else look.bottom)
+        links[f"{side}_lower_leg"] = Link("lower_leg", [*shin, foot])
+    return links
+
+
+def _moved(part: Part, dz: float) -> Part:
+    """``part`` moved ``dz`` metres along z."""
+    matrix = np.eye(4)
+    matrix[2, 3] = dz
+    return part.transformed(matrix)
+
+
+def add_humanoid(root, who: str, height: float, look: Appearance, *, body_group: int, hand_group: int,
+                 add_visual: AddVisual | None = None, separate_hands: bool = True) -> None:
+    """Add a person's parts, joints and hand sites under ``root`` (an ``MjsBody``: the
+    avatar's root at the floor, facing +x). ``height`` is the body's nominal height;
+    ``look.height_scale`` and ``look.girth`` vary it. ``add_visual`` draws each part (see
+    :data:`AddVisual`); without it the skeleton has no geometry. ``separate_hands``: see
+    :func:`person_links`."""
+    p = proportions(height * look.height_scale, look.girth)
+    links = person_links(height, look, separate_hands)
 
     def child(parent, part: str, pos):
-        return parent.add_body(name=f"{who}/{part}", pos=list(pos), gravcomp=1.0)
-
-    def hinges(body, part: str):
+        body = parent.add_body(name=f"{who}/{part}", pos=list(pos), gravcomp=1.0)
+        # Joints need a mass to move; a visual-only part has none of its own.
+        body.mass, body.inertia, body.explicitinertial = 1.0, [0.01, 0.01, 0.01], True
         for j in JOINTS:
             if j.part == part:
                 body.add_joint(name=f"{who}/{j.name}", type=mujoco.mjtJoint.mjJNT_HINGE, axis=list(j.axis),
                                range=[math.radians(j.range_deg[0]), math.radians(j.range_deg[1])],
                                limited=mujoco.mjtLimited.mjLIMITED_TRUE, armature=0.01, damping=1.0)
+        if add_visual is not None and part in links:
+            add_visual(body, links[part], hand_group if part.endswith("_hand") else body_group, f"{who}/{part}")
+        return body
 
     pelvis = child(root, "pelvis", (0, 0, p.hip_z))
-    lower = look.top if look.silhouette == "skirt" else look.bottom
-    geom(pelvis, "pelvis", _ELLIPSOID, (0.07 * h * g, 0.1 * h * g, 0.065 * h), lower, pos=(0, 0, 0.025 * h))
-    if look.silhouette == "skirt":  # a skirt: a wide cone-ish ellipsoid over the thighs
-        geom(pelvis, "skirt", _ELLIPSOID, (0.09 * h * g, 0.115 * h * g, 0.11 * h), look.top, pos=(0, 0, -0.06 * h))
     torso = child(pelvis, "torso", (0, 0, p.waist_z))
-    if robot:
-        geom(torso, "torso", _BOX, (0.07 * h, 0.11 * h, 0.13 * h), look.top, pos=(0, 0, 0.14 * h))
-    else:
-        geom(torso, "torso", _ELLIPSOID, (0.075 * h * g, 0.12 * h * g, 0.16 * h), look.top, pos=(0, 0, 0.13 * h))
-    head = child(torso, "head", (0, 0, p.neck_z))
-    hinges(head, "head")
-    hz = p.head_radius * 0.75
-    if robot:
-        geom(head, "head", _BOX, (p.head_radius, p.head_radius * 0.9, p.head_radius * 1.05), look.skin,
-             pos=(0, 0, hz))
-        geom(head, "visor", _BOX, (0.01 * h, p.head_radius * 0.75, p.head_radius * 0.35), look.hair,
-             pos=(p.head_radius, 0, hz + 0.1 * p.head_radius))
-    else:
-        geom(head, "head", _ELLIPSOID, (p.head_radius * 0.95, p.head_radius * 0.85, p.head_radius * 1.1),
-             look.skin, pos=(0.01 * h, 0, hz))
-        long_hair = look.silhouette == "long_hair"
-        geom(head, "hair", _ELLIPSOID, (p.head_radius, p.head_radius * 0.92,
-                                        p.head_radius * (1.2 if long_hair else 0.8)),
-             look.hair, pos=(-0.012 * h, 0, hz + (-0.02 * h if long_hair else 0.025 * h)))
+    child(torso, "head", (0, 0, p.neck_z))
     for side in SIDES:
         sign = 1.0 if side == "left" else -1.0
         upper = child(torso, f"{side}_upper_arm", (0, sign * p.shoulder_y, p.shoulder_z))
-        hinges(upper, f"{side}_upper_arm")
-        geom(upper, f"{side}_upper_arm", _CAPSULE, 0.026 * h * g, look.top, fromto=(0, 0, 0, 0, 0, -p.upper_arm))
         fore = child(upper, f"{side}_lower_arm", (0, 0, -p.upper_arm))
-        hinges(fore, f"{side}_lower_arm")
-        geom(fore, f"{side}_lower_arm", _CAPSULE, 0.021 * h * g, look.skin if not robot else look.bottom,
-             fromto=(0, 0, 0, 0, 0, -p.lower_arm))
         hand = child(fore, f"{side}_hand", (0, 0, -p.lower_arm))
-        geom(hand, f"{side}_hand", _ELLIPSOID, (0.014 * h, 0.028 * h, 0.045 * h), look.skin,
-             pos=(0, 0, -0.03 * h), group=hand_group)
         hand.add_site(name=f"{who}/{side}_hand", pos=[0, 0, -p.hand], size=[0.01, 0, 0])
         thigh = child(pelvis, f"{side}_upper_leg", (0, sign * p.hip_y, 0))
-        hinges(thigh, f"{side}_upper_leg")
-        geom(thigh, f"{side}_upper_leg", _CAPSULE, 0.037 * h * g, look.bottom, fromto=(0, 0, 0, 0, 0, -p.upper_leg))
         shin = child(thigh, f"{side}_lower_leg", (0, 0, -p.upper_leg))
-        hinges(shin, f"{side}_lower_leg")
-        shin_colour = look.skin if look.silhouette == "skirt" else look.bottom
-        geom(shin, f"{side}_lower_leg", _CAPSULE, 0.028 * h * g, shin_colour, fromto=(0, 0, 0, 0, 0, -p.lower_leg))
-        foot = child(shin, f"{side}_foot", (0, 0, -p.lower_leg))
-        hinges(foot, f"{side}_foot")
-        ankle_z = p.hip_z - p.upper_leg - p.lower_leg
-        geom(foot, f"{side}_foot", _BOX, (0.065 * h, 0.028 * h, ankle_z / 2), look.shoes,
-             pos=(0.035 * h, 0, -ankle_z / 2))
+        child(shin, f"{side}_foot", (0, 0, -p.lower_leg))
 
 
 def skeleton_model(height: float, look: Appearance) -> mujoco.MjModel:

@@ -60,15 +60,24 @@
     return [(x - map.x0) * map.scale + map.pad, (map.y1 - y) * map.scale + map.pad];
   }
 
+  // A person seen from above (as legent_gym.world.topdown_map draws them): an ellipse
+  // across the shoulders, the head, a nose, and an arrow along the heading.
   function marker(pose, colour, label) {
     if (!pose) return;
     const [u, v] = px(pose[0], pose[1]);
     const yaw = pose[2] * Math.PI / 180;
-    const [tu, tv] = px(pose[0] + 0.5 * Math.cos(yaw), pose[1] + 0.5 * Math.sin(yaw));
-    const r = Math.max(4, 0.25 * map.scale);
+    const fu = Math.cos(yaw), fv = -Math.sin(yaw);  // forward on the canvas (its y points down)
+    const s = map.scale;
     mapCtx.fillStyle = colour; mapCtx.strokeStyle = colour; mapCtx.lineWidth = 3;
-    mapCtx.beginPath(); mapCtx.arc(u, v, r, 0, 2 * Math.PI); mapCtx.fill();
-    mapCtx.beginPath(); mapCtx.moveTo(u, v); mapCtx.lineTo(tu, tv); mapCtx.stroke();
+    mapCtx.beginPath();
+    mapCtx.ellipse(u, v, Math.max(3, 0.22 * s), Math.max(2, 0.11 * s), Math.atan2(fv, fu) + Math.PI / 2, 0, 2 * Math.PI);
+    mapCtx.fill();
+    mapCtx.fillStyle = "#282828";
+    mapCtx.beginPath(); mapCtx.arc(u, v, Math.max(2, 0.1 * s), 0, 2 * Math.PI); mapCtx.fill();
+    mapCtx.beginPath(); mapCtx.arc(u + 0.1 * s * fu, v + 0.1 * s * fv, Math.max(1, 0.03 * s), 0, 2 * Math.PI); mapCtx.fill();
+    mapCtx.beginPath(); mapCtx.moveTo(u + 0.15 * s * fu, v + 0.15 * s * fv);
+    mapCtx.lineTo(u + 0.6 * s * fu, v + 0.6 * s * fv); mapCtx.stroke();
+    const r = Math.max(4, 0.25 * s);
     mapCtx.fillStyle = "#222"; mapCtx.font = "11px sans-serif";
     mapCtx.fillText(label, u + r + 2, v + r + 8);
   }
