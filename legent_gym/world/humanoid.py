@@ -23,10 +23,11 @@ through them; the body that collides is still the swept disc of
 compensation, so physics (an object settling after ``put``) never moves a limb: only the
 environment poses them (:mod:`legent_gym.agent.motion`).
 
-Proportions follow the body's height; girth, a small height change, skin, hair and
-clothing colours and a silhouette come from the scene's seed (:func:`appearance_for`), so
-the same scene always shows the same people. The agent has a robot-like look (grey shell,
-dark visor) and is never mistaken for the user.
+Proportions follow the body's height. The user is one of :data:`USER_LOOKS` people
+(girth, a small height change, skin, hair and clothing colours, a silhouette), chosen by the
+scene's seed (:func:`appearance_for`), so the same scene always shows the same person. The
+agent has a robot-like look (grey shell, blue top, dark visor) and is never mistaken for
+the user.
 
 Geom groups: every part of the user, and every part of the agent but its hands, is in
 the person's own group (``GROUP_AGENT`` or ``GROUP_USER``), which that person's head
@@ -37,6 +38,7 @@ the agent sees its own hands and what it holds.
 from __future__ import annotations
 
 import math
+import zlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import lru_cache
@@ -117,22 +119,32 @@ def _opaque(rgb) -> tuple[float, float, float, float]:
     return (float(rgb[0]), float(rgb[1]), float(rgb[2]), 1.0)
 
 
+#: How many different users the scenes' seeds choose among.
+USER_LOOKS = 32
+
+
 def appearance_for(who: str, seed: int | None) -> Appearance:
     """The look of ``who`` (``"agent"`` or ``"user"``) in a scene with ``seed``: the agent
-    is always the robot, in a shell colour drawn from the seed; the user's colours, build and
-    silhouette are drawn from the seed. Deterministic."""
-    rng = np.random.default_rng([0 if seed is None else int(seed) % 2**63, 0 if who == "agent" else 1])
+    is always the robot; the user is one of :data:`USER_LOOKS` people (colours, build and
+    silhouette), chosen by the seed. Deterministic. A fixed set of people (as LEGENT has a
+    fixed set of characters) lets a process build each person's meshes once."""
     if who == "agent":
-        accent = CLOTHES[int(rng.integers(len(CLOTHES)))]
-        return Appearance(**{**ROBOT.__dict__, "top": _opaque(accent)})
+        return ROBOT
+    index = zlib.crc32(str(0 if seed is None else int(seed)).encode()) % USER_LOOKS
+    return _user_look(index)
+
+
+@lru_cache(maxsize=USER_LOOKS)
+def _user_look(index: int) -> Appearance:
+    rng = np.random.default_rng([index, 1])
     return Appearance(
         skin=_opaque(SKIN[int(rng.integers(len(SKIN)))]),
         hair=_opaque(HAIR[int(rng.integers(len(HAIR)))]),
         top=_opaque(CLOTHES[int(rng.integers(len(CLOTHES)))]),
         bottom=_opaque(TROUSERS[int(rng.integers(len(TROUSERS)))]),
         shoes=_opaque((0.15, 0.12, 0.1) if rng.random() < 0.6 else (0.85, 0.85, 0.85)),
-        girth=float(rng.uniform(0.9, 1.15)),
-        height_scale=float(rng.uniform(0.96, 1.04)),
+        girth=round(float(rng.uniform(0.9, 1.15)), 2),
+        height_scale=round(float(rng.uniform(0.96, 1.04)), 2),
         silhouette=("trousers", "skirt", "long_hair")[int(rng.integers(3))],
     )
 
@@ -182,7 +194,7 @@ def proportions(height: float, girth: float = 1.0) -> Proportions:
 AddVisual = Callable[[Any, Link, int, str], None]
 
 
-@lru_cache(maxsize=64)
+@lru_cache(maxsize=2 * USER_LOOKS + 8)
 def person_links(height: float, look: Appearance, separate_hands: bool = True) -> dict[str, Link]:
     """The visual of each part of a person (a :class:`Link` of low-poly parts per body that
     carries geometry), in that body's frame. The feet are drawn with the lower legs (they
