@@ -18,7 +18,8 @@ piece in reach). The search first looks for a layout meeting every relation (for
 checking, backtracking); the first :data:`STRICT_ATTEMPTS` houses are given up when a room
 has none, later ones keep the best soft score instead. Surface furniture (a tv) and small
 objects go on the receptacles of what they are ``on`` (else on any surface of the room); a
-piece that planned small objects stand on gets an asset with a surface they fit. The
+piece that planned small objects stand on gets an asset with surfaces most of their models
+fit. The
 finished scene passes :func:`~legent_gym.world.generation.validate.check_house`.
 
 Nothing is silently ignored: a name that is no asset category is mapped to the nearest
@@ -91,7 +92,8 @@ WALL_HEIGHT = 3.0
 DFS_BRANCH = 3  # candidates tried per object before backtracking
 DFS_BUDGET = 60  # commits per room before the search turns greedy
 SUPPORT_PICKS = 8  # assets tried for a piece that planned small objects stand on
-SMALL_TRIES = 12  # assets tried for a small object on the piece the plan names
+FIT_SHARE = 0.75  # ...until one that this share of their categories' models fit
+SMALL_TRIES = 12  # assets tried for a small object or a tv on the piece the plan names
 STRICT_BUDGET = 150  # commits per room of the search that meets every relation
 ATTEMPTS = 6  # tries at a valid house
 STRICT_ATTEMPTS = 3  # of which the first ones give up on a room that misses a relation
@@ -614,32 +616,38 @@ class _Solver:
 
     def pick(self, f: Furnisher, item: _Item) -> tuple[str, int, Any]:
         """An asset for a floor piece: for a piece that planned small objects stand on,
-        one (of a few picks) with an open surface that each of their categories fits."""
-        first = f.pick(item.category)
+        the first of a few picks on whose open surfaces most models of each of their
+        categories fit (else the pick where the most fit)."""
+        pick = f.pick(item.category)
         cats = {i.category for i in self.items[item.room] if i.on == item.name and self.catalog.is_small(i.category)}
         if not cats:
-            return first
-        pick = first
-        for _ in range(SUPPORT_PICKS):
-            if all(self.fits(pick[2], c) for c in cats):
+            return pick
+        best, best_share = pick, -1.0
+        for k in range(SUPPORT_PICKS):
+            if k:
+                pick = f.pick(item.category)
+            share = min(self.fits(pick[2], c) for c in cats)
+            if share >= FIT_SHARE:
                 return pick
-            pick = f.pick(item.category)
-        return first
+            if share > best_share:
+                best, best_share = pick, share
+        return best
 
-    def fits(self, model: Any, category: str) -> bool:
-        """Whether some model of a small category (a sample of its assets' variants) fits
-        an open receptacle of ``model`` (footprint and clearance)."""
+    def fits(self, model: Any, category: str) -> float:
+        """The share of a sample of a small category's models (its assets' variants) that
+        fit an open receptacle of ``model``: footprint, with room to turn a little, and
+        clearance."""
         if category not in self._sizes:
             ids = self.catalog.by_category[category]
             self._sizes[category] = np.array([registry.make(a, v).size for a in ids for v in (0, 250, 500, 750)])
         sizes = self._sizes[category]
+        fit = np.zeros(len(sizes), dtype=bool)
         for rec in model.receptacles:
             if not open_receptacle(model, rec):
                 continue
-            room = 2 * np.asarray(rec.half_size) - 0.02
-            if ((sizes[:, 0] <= room[0]) & (sizes[:, 1] <= room[1]) & (sizes[:, 2] <= rec.clearance)).any():
-                return True
-        return False
+            room = 2 * np.asarray(rec.half_size) - 0.06
+            fit |= (sizes[:, 0] <= room[0]) & (sizes[:, 1] <= room[1]) & (sizes[:, 2] <= rec.clearance)
+        return float(fit.mean())
 
     def furnish_room(self, f: Furnisher, space: RoomSpace, rng: np.random.Generator, strict_only: bool = False) -> bool:
         """Place the room's floor furniture: first a depth-first search in which every
@@ -797,7 +805,7 @@ class _Solver:
                     i.piece for i in items if i.piece is not None and
                     f.pieces[i.piece].category in SUPPORTS.get(item.category, ())]
                 for s in supports:
-                    if not any(p.support == s for p in f.pieces) and f.put_on_support(s, item.category):
+                    if not any(p.support == s for p in f.pieces) and f.put_on_support(s, item.category, tries=SMALL_TRIES):
                         item.piece = len(f.pieces) - 1
                         break
                 else:
