@@ -20,6 +20,12 @@ committed file (a figure gone stale).
 *Cheap* figures are deterministic and quick (seeded episodes): the default tests and
 ``--scale small`` rerun them. The others (timings, long training runs) are rerun by
 ``--scale full`` only, and each table says beside it the commit it was measured at.
+
+A long run measured before its table was a figure is *adopted* (``python -m baselines.refresh
+--adopt NAME --commit SHA``, nothing run): from the ``results.json`` the run kept in
+``docs/data/<folder>/``, or, when the run kept no file, from the table as typed in the doc at
+the commit that added it (``Figure.typed``; the test checks the data against that commit's
+text). Such a table says beside it that it was not re-measured on the current code.
 """
 
 from __future__ import annotations
@@ -70,6 +76,8 @@ class Table:
     note: str = ""
     #: A format spec per column for its numbers (default: the figure's ``number_format``).
     formats: list[str] | None = None
+    #: For a table made from other data files, not measured: what it is made from.
+    made_from: str = ""
 
 
 @dataclass(frozen=True)
@@ -78,13 +86,19 @@ class Figure:
     #: The command a reader runs to measure it (``python -m baselines.refresh --only NAME``
     #: runs the same producer).
     command: str
-    produce: Callable[[], Table]
+    #: Measures it now; None for a table that no one command measures again (``typed``).
+    produce: Callable[[], Table] | None
     #: Deterministic and quick: rerun by the default tests and by ``--scale small``.
     cheap: bool
     #: How a numeric cell is printed.
     number_format: str = ".3f"
     #: A reproduce_table.py run's folder under docs/data/ (its results.json), if it is one.
     folder: str | None = None
+    #: How that results.json becomes the table (default: :func:`vla_table`).
+    from_results: Callable[[dict[str, Any]], Table] | None = None
+    #: A table typed in a doc before it was a figure, and kept in no file: (the doc, a line of
+    #: the table) that finds it in the doc at the commit given to ``--adopt``.
+    typed: tuple[str, str] | None = None
 
 
 # -- provenance -----------------------------------------------------------------------------------
@@ -137,12 +151,16 @@ def _shown(path: Path) -> str:
 def measure(figure: Figure, origin: dict[str, Any] | None = None) -> dict[str, Any]:
     """Run the figure's producer and return its data (not written). ``origin``: the
     :func:`provenance` taken before a run wrote anything (default: taken now)."""
+    if figure.produce is None:
+        raise FigureError(f"figure {figure.name!r} is not measured again by one command; its data is adopted "
+                          f"(`python -m baselines.refresh --adopt {figure.name} --commit SHA`)")
     origin = provenance() if origin is None else origin
     started = time.perf_counter()
     table = figure.produce()
     return {"format": FORMAT_VERSION, "name": figure.name, "command": figure.command, "cheap": figure.cheap,
             "number_format": figure.number_format, "formats": table.formats, "columns": table.columns, "rows": table.rows,
             "stderr": table.stderr, "seeds": table.seeds, "note": table.note,
+            **({"made_from": table.made_from} if table.made_from else {}),
             "wall_seconds": round(time.perf_counter() - started, 1), **origin}
 
 
@@ -183,14 +201,25 @@ def render(data: dict[str, Any]) -> str:
     formats = data.get("formats") or [data.get("number_format", ".3f")] * len(data["columns"])
     numeric = [any(isinstance(row[c], int | float) and not isinstance(row[c], bool) for row in data["rows"])
                for c in range(len(data["columns"]))]
-    lines = ["| " + " | ".join(data["columns"]) + " |",
-             "|" + "|".join("---:" if n else "---" for n in numeric) + "|"]
+    align = data.get("align") or ["---:" if n else "---" for n in numeric]
+    lines = ["| " + " | ".join(data["columns"]) + " |", "|" + "|".join(align) + "|"]
     lines += ["| " + " | ".join(_cell(v, f) for v, f in zip(row, formats)) + " |" for row in data["rows"]]
     commit = data["commit"][:7] + (" with uncommitted changes" if data.get("dirty") else "")
     if data.get("commit_note"):
         commit += f" ({data['commit_note']})"
-    where = (f"Measured by `{data['command']}` at commit {commit} on {data['date']}, "
-             f"{data['machine']['cores']} cores ({data['machine']['cpu']}), {data['wall_seconds']:g} s")
+    if data.get("typed"):
+        how = (f"measured by `{data['command']}`" if data["command"] else
+               "the command that measured it is not kept in the repository")
+        where = (f"Typed in `{data['typed']}` at commit {commit} on {data['date']}; {how}; "
+                 "not re-measured on the current code")
+    elif data.get("made_from"):
+        where = f"Made by `{data['command']}` at commit {commit} from {data['made_from']} (nothing measured)"
+    else:
+        where = f"Measured by `{data['command']}` at commit {commit} on {data['date']}"
+        if data.get("machine"):
+            where += f", {data['machine']['cores']} cores ({data['machine']['cpu']})"
+        if data.get("wall_seconds") is not None:
+            where += f", {data['wall_seconds']:g} s"
     if data.get("seeds"):
         where += f"; seeds {data['seeds']}"
     where += f". Data: `{_shown(data_path(data['name']))}`"
@@ -296,9 +325,77 @@ def expert_success() -> Table:
                  formats=["", "", ".1f", "d"])
 
 
+EXPERT_SEEDS = 200
+
+
+def expert_200_seeds() -> Table:
+    """docs/experts.md, "Measured": the task expert on seeds 0-199 of every registered id,
+    text actions, 32x32 images, the 25-action cap (the evaluator's code path)."""
+    from baselines.vla.evaluate import evaluate_many
+    from legent_gym.envs.registration import ENV_IDS
+
+    ids = sorted(ENV_IDS)
+    results = evaluate_many([("expert", env_id) for env_id in ids], EXPERT_SEEDS, 0, {"width": 32, "height": 32},
+                            workers=1)
+    rows = []
+    for env_id, runs in zip(ids, results):
+        won = [r.steps for r in runs if r.success]
+        rows.append([env_id, f"{len(won)}/{len(runs)}", round(sum(won) / len(won), 2) if won else float("nan"),
+                     max(won, default=0)])
+    return Table(["env", "expert successes", "mean actions", "max actions"], rows,
+                 seeds=f"0-{EXPERT_SEEDS - 1} of every id", formats=["", "", ".1f", "d"])
+
+
+DAGGER_ENVS = ("Legent/ComeHere-TwoRoom-v0", "Legent/BringMe-TwoRoom-v0", "Legent/PutOn-OneRoom-v0",
+               "Legent/WhereIs-TwoRoom-v0")
+DAGGER_RANDOM_ACTIONS = 5
+
+
+def expert_takeover() -> Table:
+    """docs/experts.md, "Replanning from any state": per id, on seeds 0-199, five random
+    actions (a move of up to 1.5 m, a turn, a tilt; one generator seeded 0 per id), then the
+    expert; how often it succeeds where success was still possible (the episode not ended by
+    the random actions). The procedure of ``tests/test_expert_wrappers.py::test_dagger_acceptance``."""
+    import gymnasium as gym
+    import numpy as np
+
+    from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight, format_actions
+    from legent_gym.wrappers import ExpertInfo
+
+    rows = []
+    for env_id in DAGGER_ENVS:
+        env = ExpertInfo(gym.make(env_id, width=32, height=32, max_episode_steps=25 + DAGGER_RANDOM_ACTIONS))
+        rng = np.random.default_rng(0)
+        wins = possible = 0
+        for seed in range(EXPERT_SEEDS):
+            _, info = env.reset(seed=seed)
+            ended = False
+            for _ in range(DAGGER_RANDOM_ACTIONS):
+                step = (MoveForward(round(float(rng.uniform(0, 1.5)), 2)),
+                        RotateRight(round(float(rng.uniform(-90, 90)), 1)),
+                        RotateDown(round(float(rng.uniform(-20, 20)), 1)))
+                _, _, terminated, truncated, info = env.step(format_actions(step))
+                if terminated or truncated:
+                    ended = True
+                    break
+            if ended:
+                continue
+            possible += 1
+            for _ in range(25):
+                _, _, terminated, truncated, info = env.step(info["expert_action"])
+                if terminated or truncated:
+                    break
+            wins += bool(info["success"])
+        env.close()
+        rows.append([env_id.split("/")[1].removesuffix("-v0"), f"{wins}/{possible}"])
+    return Table(["env", "success where still possible"], rows, seeds=f"0-{EXPERT_SEEDS - 1}")
+
+
 FIGURES: dict[str, Figure] = {f.name: f for f in (
     Figure("random-policy", "python -m baselines.refresh --only random-policy", random_policy, cheap=True),
     Figure("expert-success", "python -m baselines.refresh --only expert-success", expert_success, cheap=True),
+    Figure("expert-200-seeds", "python -m baselines.refresh --only expert-200-seeds", expert_200_seeds, cheap=False),
+    Figure("expert-takeover", "python -m baselines.refresh --only expert-takeover", expert_takeover, cheap=False),
 )}
 
 
@@ -344,22 +441,63 @@ def rerun_table(folder: str, args: Sequence[str]) -> Table:
     return vla_table(json.loads((keep / "results.json").read_text()))
 
 
+def typed_table(text: str, line: str) -> tuple[list[str], list[str], list[list[str]]]:
+    """The Markdown table of ``text`` that holds a line containing ``line``: its columns, the
+    alignment row's cells and its rows, each cell as typed."""
+    lines = text.splitlines()
+    hits = [i for i, row in enumerate(lines) if row.startswith("|") and line in row]
+    if len(hits) != 1:
+        raise FigureError(f"{len(hits)} table lines contain {line!r} (one expected)")
+    first = last = hits[0]
+    while first > 0 and lines[first - 1].startswith("|"):
+        first -= 1
+    while last + 1 < len(lines) and lines[last + 1].startswith("|"):
+        last += 1
+
+    def cells(row: str) -> list[str]:
+        return [c.strip() for c in row.strip().strip("|").split("|")]
+
+    table = [cells(row) for row in lines[first:last + 1]]
+    if len(table) < 3 or any(len(row) != len(table[0]) for row in table):
+        raise FigureError(f"the table holding {line!r} is not a table of equal rows")
+    return table[0], table[1], table[2:]
+
+
+def adopt_typed(fig: Figure, full: str, note: str) -> dict[str, Any]:
+    """The data of a figure whose table was typed in a doc, read from that doc at commit ``full``."""
+    assert fig.typed is not None
+    doc, line = fig.typed
+    text = _git("show", f"{full}:{doc}")
+    if not text:
+        raise FigureError(f"no {doc} at commit {full[:7]}")
+    columns, align, rows = typed_table(text, line)
+    return {"format": FORMAT_VERSION, "name": fig.name, "command": fig.command, "cheap": False,
+            "number_format": fig.number_format, "formats": None, "columns": columns, "align": align,
+            "rows": rows, "stderr": None, "seeds": "", "note": "", "wall_seconds": None,
+            "commit": full, "dirty": False, "commit_note": note, "typed": doc, "typed_line": line,
+            "argv": None, "machine": None,
+            "date": _git("show", "-s", "--format=%cd", "--date=format:%Y-%m-%d %H:%M UTC", full)}
+
+
 def adopt(name: str, commit: str, note: str = "") -> dict[str, Any]:
-    """The data of a table figure from the ``results.json`` its run kept in
-    ``docs/data/<folder>/`` (nothing is run): the run's commit as given, the date of that
-    commit, the run's own wall time. ``note`` says how the commit is known."""
+    """The data of a figure measured before it was one (nothing is run): from the
+    ``results.json`` its run kept in ``docs/data/<folder>/`` (the run's commit as given, the
+    date of that commit, the run's own wall time), else from its table as typed in the doc at
+    ``commit`` (``Figure.typed``). ``note`` says how the commit is known."""
     fig = figure(name)
-    if fig.folder is None:
-        raise FigureError(f"figure {name!r} is not a reproduce_table.py run")
-    path = run_folder(fig.folder) / "results.json"
+    full = _git("rev-parse", "--verify", "--quiet", f"{commit}^{{commit}}")
+    if not full:
+        raise FigureError(f"no commit {commit!r} in this repository")
+    path = run_folder(fig.folder) / "results.json" if fig.folder else None
+    if fig.typed is not None and (path is None or not path.is_file()):
+        return adopt_typed(fig, full, note)
+    if path is None:
+        raise FigureError(f"figure {name!r} is neither a run that kept a results.json nor a typed table")
     try:
         results = json.loads(path.read_text())
     except (OSError, ValueError) as err:
         raise FigureError(f"{_shown(path)}: {err}") from None
-    table = vla_table(results)
-    full = _git("rev-parse", "--verify", "--quiet", f"{commit}^{{commit}}")
-    if not full:
-        raise FigureError(f"no commit {commit!r} in this repository")
+    table = (fig.from_results or vla_table)(results)
     return {"format": FORMAT_VERSION, "name": name, "command": fig.command, "cheap": False,
             "number_format": fig.number_format, "formats": table.formats, "columns": table.columns,
             "rows": table.rows, "stderr": table.stderr, "seeds": table.seeds, "note": table.note,
@@ -369,9 +507,9 @@ def adopt(name: str, commit: str, note: str = "") -> dict[str, Any]:
             "date": _git("show", "-s", "--format=%cd", "--date=format:%Y-%m-%d %H:%M UTC", full)}
 
 
-def _table_figure(name: str, folder: str, args: str) -> Figure:
+def _table_figure(name: str, folder: str, args: str, typed: tuple[str, str] | None = None) -> Figure:
     return Figure(name, f"python baselines/reproduce_table.py {args} --out runs/{folder}",
-                  lambda: rerun_table(folder, args.split()), cheap=False, folder=folder)
+                  lambda: rerun_table(folder, args.split()), cheap=False, folder=folder, typed=typed)
 
 
 FIGURES.update({f.name: f for f in (
@@ -383,7 +521,135 @@ FIGURES.update({f.name: f for f in (
     _table_figure("table-full", "table_full", "--scale full"),
     _table_figure("table-full-p25-scan-dagger", "table_full_p25_scan_dagger",
                   "--scale full --perturb 0.25 --scan --dagger"),
+    # runs that kept no results.json: their tables as typed in docs/results.md (see adopt)
+    _table_figure("table-large", "table_large", "--scale large",
+                  typed=("docs/results.md", "| VLA-Sep 3K (ours) |")),
+    _table_figure("table-medium", "table_medium", "--scale medium",
+                  typed=("docs/results.md", "| VLA-Sep 100 (ours) |")),
 )})
+
+
+def phases_table(results: dict[str, Any]) -> Table:
+    """The wall time of each phase of a ``reproduce_table.py`` run, from its ``results.json``."""
+    config, wall = results["config"], results["wall_seconds"]
+    trajectories = config["large"] * len(results["data_seeds"])
+    episodes = sum(len(runs) for rates in results["episodes"].values() for runs in rates.values())
+    what = {"data": f"{trajectories:,} expert trajectories",
+            "training": f"{len(results['training'])} models, {results['workers']} at a time",
+            "evaluation": f"{episodes:,} episodes"}
+    rows = [[phase, round(float(wall[phase])), what[phase]] for phase in ("data", "training", "evaluation")]
+    return Table(["phase", "seconds", "what"], rows, formats=["", ",d", ""])
+
+
+def _typed(name: str, doc: str, line: str, command: str = "") -> Figure:
+    """A table typed in ``doc`` whose run kept no file and that no one command measures
+    again: adopted from the doc at the commit that added it. ``command``: the command the doc
+    gives for it ("" where the doc does not keep one)."""
+    return Figure(name, command, None, cheap=False, typed=(doc, line))
+
+
+_WIDE_TRAIN = "python -m baselines.vla.train --data runs/table-full-p25/data/<task folder> --out M --epochs 8 " \
+    "--threads 1 --channels 32,64,128,256"
+FIGURES.update({f.name: f for f in (
+    Figure("table-full-phases", "python baselines/reproduce_table.py --scale full --out runs/table_full", None,
+           cheap=False, folder="table_full", from_results=phases_table),
+    _typed("where-is-paper-seeds", "docs/results.md", "| VLA-Sep 10K of the default task (ours), asked these |"),
+    _typed("ppo-curve", "docs/results.md", "| 196k-205k |",
+           "python baselines/ppo_comehere.py --timesteps 250000 --out out/ppo_comehere"),
+    _typed("ppo-evaluation", "docs/results.md", "| PPO, greedy (mean action) |",
+           "python baselines/ppo_comehere.py --timesteps 250000 --out out/ppo_comehere"),
+    _typed("ablation-wide-encoder", "docs/results.md", "| Come Here, one room | 0.72 | 0.78 |",
+           _WIDE_TRAIN + ", evaluated on reset seeds 0-299"),
+    _typed("ablation-epochs16", "docs/results.md", "| 16 epochs, seeds 0-99 / 0-299 |",
+           "python -m baselines.vla.train --data <table-full-wide data>/<Task> --trajectories 10000 --epochs 16 "
+           "--channels 32,64,128,256 --threads 1, evaluated on reset seeds 0-299"),
+    _typed("ablation-shift", "docs/results.md", "| `--shift 4`, seeds 0-99 / 0-299 |",
+           "python -m baselines.vla.train --data <table-full-wide data>/<Task> --trajectories 10000 --epochs 8 "
+           "--channels 32,64,128,256 --shift 4 --threads 1, evaluated on reset seeds 0-299"),
+    _typed("ablation-recovery", "docs/results.md", "| clean | 8,810 | 92 s |"),
+    _typed("ablation-scan", "docs/results.md", "| **scan**, clean |"),
+    _typed("ablation-aux", "docs/results.md", "| the same | W = 0.5 | 0.56 |"),
+    _typed("variants-medium", "docs/results.md", "| plain behaviour cloning (no mirroring) |"),
+)})
+
+
+# -- the paper beside us --------------------------------------------------------------------------
+#: The run of ours that the comparison shows (the best table here) and the paper's quoted table.
+OURS_FIGURE, PAPER_FIGURE = "table-full-wide", "paper-table-3"
+
+
+def load_quoted(name: str) -> dict[str, Any]:
+    """A data file of numbers quoted from a publication (``source``: "paper"), not measured."""
+    path = data_path(name)
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError) as err:
+        raise FigureError(f"{_shown(path)}: {err}") from None
+    if data.get("source") != "paper" or data.get("name") != name:
+        raise FigureError(f"{_shown(path)}: not quoted data named {name!r}")
+    return data
+
+
+def paper_beside_ours() -> Table:
+    """The paper's Table 3 and ours side by side, each row with its conditions: the paper's
+    rows from ``paper-table-3.json`` (quoted), ours from the ``table-full-wide`` figure and
+    the ``results.json`` its run kept (model sizes, data, evaluation seeds), and the baselines
+    that need what no CPU machine has (an LLM endpoint, a GPU), not measured."""
+    paper, ours = load_quoted(PAPER_FIGURE), load(OURS_FIGURE)
+    results = json.loads((run_folder(figure(OURS_FIGURE).folder or "") / "results.json").read_text())
+    first, last = results["eval_seeds"]
+    hardware = f"CPU, {ours['machine']['cores']} cores"
+    evaluation = f"{results['config']['episodes']} per task, reset seeds {first}-{last}"
+    view = results["config"]["image_size"]
+    columns = ["Model", *ours["columns"][1:], "parameters", "training data", "hardware", "evaluation",
+               "needs a GPU", "from"]
+    rows: list[list[Any]] = []
+    for label, *rates in paper["rows"]:
+        c = paper["conditions"][label]
+        rows.append([f"{label} (paper)", *rates, c["parameters"], c["training data"], c["hardware"],
+                     paper["evaluation"], c["needs a GPU"], "the paper's Table 3"])
+
+    def parameters(prefix: str) -> str:
+        counts = sorted({m["metrics"]["parameters"] for k, m in results["training"].items() if k.startswith(prefix)})
+        low, high = counts[0] / 1e6, counts[-1] / 1e6
+        return f"{low:.2f} M" if f"{low:.2f}" == f"{high:.2f}" else f"{low:.2f}-{high:.2f} M"
+
+    def amount(n: int) -> str:
+        return f"{n // 1000}K" if n % 1000 == 0 else str(n)
+
+    small, large = results["config"]["small"], results["config"]["large"]
+    made = {"Random": ("-", "none", "CPU"),
+            f"VLA-Sep {amount(small)} (ours)": (parameters(f"sep{small}-"),
+                                                f"{amount(small)} trajectories per task, a model per task, "
+                                                f"{view} x {view} views", hardware),
+            f"VLA-Sep {amount(large)} (ours)": (parameters(f"sep{large}-"),
+                                                f"{amount(large)} trajectories per task, a model per task, "
+                                                f"{view} x {view} views", hardware),
+            f"VLA-Joint {amount(large)} (ours)": (parameters("joint"),
+                                                  f"the three tasks' {amount(large)} sets, one model, "
+                                                  f"{view} x {view} views", hardware)}
+    for label, *rates in ours["rows"]:
+        if label in made:
+            size, data, where = made[label]
+            rows.append([label if label.endswith("(ours)") else f"{label} (ours)", *rates, size, data, where,
+                         evaluation, "no", f"`{OURS_FIGURE}` at {ours['commit'][:7]}"])
+    rows.append(["LLM agent (ours, `baselines/llm_agent.py`)", "-", "-", "-", "-", "the endpoint's model",
+                 "none (zero-shot)", "an OpenAI-compatible multimodal endpoint", "-", "the endpoint's",
+                 "not measured: needs a model endpoint"])
+    rows.append(["VLM fine-tuned (ours, `baselines/vlm/`, the paper's recipe)", "-", "-", "-", "-",
+                 "the chosen Hugging Face model", "`legent-gym collect` data", "GPU", "-", "yes",
+                 "not measured: needs a GPU (`docs/vlm.md`)"])
+    note = ("Success rates. The paper's rows are quoted (views 448 x 448); ours are measured with the same "
+            "protocol (the same training tasks, Where Is in two rooms never trained on, 100 episodes per task). "
+            "\\* never trained on (generalisation).")
+    made_from = (f"`{_shown(data_path(PAPER_FIGURE))}` (quoted from {paper['quoted']}), "
+                 f"`{_shown(data_path(OURS_FIGURE))}` and `docs/data/{figure(OURS_FIGURE).folder}/results.json`")
+    return Table(columns, rows, seeds=f"{first}-{last} (evaluation, ours)", note=note, made_from=made_from,
+                 formats=["", ".2f", ".2f", ".2f", ".2f", "", "", "", "", "", ""])
+
+
+FIGURES["paper-beside-ours"] = Figure("paper-beside-ours", "python -m baselines.refresh --only paper-beside-ours",
+                                      paper_beside_ours, cheap=True)
 
 
 # -- speed ----------------------------------------------------------------------------------------

@@ -1,11 +1,12 @@
 """Measure the docs' figures again and rewrite their tables (see :mod:`baselines.figures`).
 
     python -m baselines.refresh                        # the cheap figures (= --scale small)
-    python -m baselines.refresh --scale full           # every figure
+    python -m baselines.refresh --scale full           # every figure that one command measures
     python -m baselines.refresh --only random-policy   # these figures
     python -m baselines.refresh --tables               # only rewrite the tables from the data files
     python -m baselines.refresh --check                # exit 1 if a table differs from its data file
     python -m baselines.refresh --adopt table-full --commit d54059b   # a kept run's results.json as its data
+    python -m baselines.refresh --adopt ppo-curve --commit 03c3827    # a table typed in a doc, from that commit
 
 Each figure measured is written to ``docs/data/figures/<name>.json`` with its commit,
 command line, seeds, machine and wall time; then every figure block of the docs is rewritten
@@ -43,12 +44,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--scale", choices=["small", "full"], default="small",
-                        help="small: the cheap (deterministic, quick) figures; full: every figure")
+                        help="small: the cheap (deterministic, quick) figures; full: every figure that one command "
+                        "measures (not the adopted typed tables)")
     parser.add_argument("--only", default="", help=f"comma-separated figures of: {', '.join(FIGURES)}")
     parser.add_argument("--tables", action="store_true", help="measure nothing; rewrite the tables from the data")
     parser.add_argument("--check", action="store_true", help="measure nothing; exit 1 if a table is not its data")
     parser.add_argument("--adopt", metavar="NAME", help="measure nothing; take the results.json that a table run "
-                        "kept in docs/data/ as the figure's data, with --commit (the commit it ran at)")
+                        "kept in docs/data/ as the figure's data, with --commit (the commit it ran at); for a "
+                        "table typed in a doc and kept in no file, its text in the doc at --commit")
     parser.add_argument("--commit", help="with --adopt: the commit the run was made at")
     parser.add_argument("--commit-note", default="", help="with --adopt: how that commit is known")
     args = parser.parse_args(argv)
@@ -66,7 +69,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if not args.tables:
             names = [n.strip() for n in args.only.split(",") if n.strip()]
             chosen = [figure(n) for n in names] if names else \
-                [f for f in FIGURES.values() if f.cheap or args.scale == "full"]
+                [f for f in FIGURES.values() if f.produce is not None and (f.cheap or args.scale == "full")]
             changes: list[str] = []
             origin = provenance()  # before this run writes a data file
             for fig in chosen:

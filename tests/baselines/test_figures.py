@@ -28,7 +28,8 @@ def test_every_figure_is_in_the_docs_and_has_a_data_file():
     assert shown == set(FIGURES)
     for name in FIGURES:
         data = load(name)
-        assert data["command"] == FIGURES[name].command and data["commit"] and data["machine"]["cores"]
+        assert data["command"] == FIGURES[name].command and data["commit"]
+        assert data.get("typed") or data["machine"]["cores"]  # a table typed in a doc: no machine recorded
 
 
 def test_a_figure_edited_by_hand_is_caught(tmp_path):
@@ -72,3 +73,49 @@ def test_cheap_figures_reproduce(name):
 def test_render_says_where_the_figure_comes_from():
     text = render(load("random-policy"))
     assert "python -m baselines.refresh --only random-policy" in text and "docs/data/figures/random-policy.json" in text
+
+
+@pytest.mark.parametrize("name", [n for n, f in FIGURES.items() if f.typed is not None])
+def test_an_adopted_typed_table_is_the_doc_at_its_commit(name):
+    """A table adopted from a doc is, cell for cell, the table that doc held at the commit
+    the data names (its provenance is the history, nothing typed since)."""
+    data = load(name)
+    if not data.get("typed"):
+        pytest.skip(f"{name} is adopted from its run's results.json")
+    text = figures._git("show", f"{data['commit']}:{data['typed']}")
+    if not text:
+        pytest.skip("no git history here")
+    columns, align, rows = figures.typed_table(text, data["typed_line"])
+    assert (columns, align, rows) == (data["columns"], data["align"], data["rows"])
+    if FIGURES[name].produce is None:  # no one command measures it again
+        with pytest.raises(FigureError, match="adopt"):
+            figures.measure(FIGURES[name])
+
+
+@pytest.mark.parametrize(("name", "results", "row", "runs"), [
+    ("ablation-epochs16", "epochs16", 1, ["ComeHere-OneRoom epochs16/Legent/ComeHere-OneRoom-v0",
+                                          "WhereIs-OneRoom epochs16/Legent/WhereIs-OneRoom-v0",
+                                          "WhereIs-OneRoom epochs16/Legent/WhereIs-TwoRoom-v0"]),
+    ("ablation-shift", "shift", 1, ["ComeHere-OneRoom shift4/Legent/ComeHere-OneRoom-v0",
+                                    "WhereIs shift4/Legent/WhereIs-OneRoom-v0",
+                                    "WhereIs shift4/Legent/WhereIs-TwoRoom-v0"]),
+])
+def test_typed_ablation_rows_are_their_runs_results(name, results, row, runs):
+    """Where the runs kept their episodes (docs/data/<results>/results.json), the typed rates
+    are those runs' rates over seeds 0-99 / 0-299."""
+    kept = json.loads((figures.ROOT / "docs" / "data" / results / "results.json").read_text())
+    cells = []
+    for run in runs:
+        key, env_id = run.split("/", 1)
+        rates = kept[key][env_id]
+        cells.append(f"{rates['rate_0_99']:.2f} / {rates['rate_0_299']:.3f}")
+    assert load(name)["rows"][row][1:] == cells
+
+
+def test_the_paper_rows_are_the_quoted_table():
+    from baselines.reproduce_table import PAPER_ROWS
+
+    paper = figures.load_quoted("paper-table-3")
+    assert paper["source"] == "paper"
+    assert paper["rows"] == [[label, *rates] for label, rates in PAPER_ROWS]
+    assert set(paper["conditions"]) == {label for label, _ in PAPER_ROWS}
