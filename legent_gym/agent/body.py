@@ -365,9 +365,10 @@ class Body:
             return f"out of reach ({d:.2f} m away, reach {self.reach:.2f} m)"
         return None
 
-    def _resolve(self, target: int | str | None) -> RayHit | str:
+    def _resolve(self, target: int | str | None, aim: bool = True) -> RayHit | str:
         """The hit to act on (what the image centre shows, or an addressed target; it names a
-        scene object or a door), or a sentence saying why there is none within reach."""
+        scene object or a door), or a sentence saying why there is none within reach. With
+        ``aim``, the right arm reaches for it (see :meth:`_aim`)."""
         self._flush()  # interactions see the world as it is after the moves before them
         if target is None:
             looked = self.look()
@@ -387,7 +388,8 @@ class Body:
                 return f"no object with id {target}"
             centre = self.world.object_centre(target)
             hit = RayHit(float(np.linalg.norm(centre - self.camera_position)), centre, object_id=int(target))
-        self._aim(hit.point)
+        if aim:
+            self._aim(hit.point)
         problem = self._in_reach(hit)
         return problem if problem else hit
 
@@ -397,10 +399,10 @@ class Body:
         self._sync()  # the arm's reach, or the hands on what it now carries
         return outcome
 
-    def _grab(self, target: int | None) -> Outcome:
+    def _grab(self, target: int | None, aim: bool = True) -> Outcome:
         if self.state.held is not None:
             return Outcome(False, f"hands are full: holding {_names(self.world, self.state.held)}")
-        hit = self._resolve(target)
+        hit = self._resolve(target, aim)
         if isinstance(hit, str):
             return Outcome(False, hit)
         if hit.object_id is None:
@@ -455,7 +457,9 @@ class Body:
             self._sync()
             return Outcome(False, hit)
         if hit.object_id is not None and self.world.scene.object(hit.object_id).kind == "interactable":
-            return self.grab(hit.object_id)
+            outcome = self._grab(hit.object_id, aim=False)  # the arm already reaches for it
+            self._sync()
+            return outcome
         joint = self._joint_for(hit)
         if joint is None:
             self._sync()

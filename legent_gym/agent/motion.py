@@ -104,8 +104,7 @@ class ArmIK:
         span = float(np.linalg.norm(target - shoulder))
         length = self.proportions.arm_length
         if span > length * REACH_MARGIN:
-            return self._refused(side, target, f"out of the arm's reach: {span:.2f} m from the shoulder, "
-                                               f"arm {length:.2f} m")
+            return self._refused(side, target, self._beyond(span))
         if span < 0.2 * length:
             return self._refused(side, target, f"too close to the shoulder to reach ({span:.2f} m)")
         best: IKSolution | None = None
@@ -139,14 +138,17 @@ class ArmIK:
         shoulder = self.proportions.shoulder(side)
         offset = target - shoulder
         span = float(np.linalg.norm(offset))
-        length = self.proportions.arm_length * 0.97
-        if span > length:
-            reached = self.solve(side, shoulder + offset * (length / span), start)
-            first = self.solve(side, target)
-            return replace(reached, ok=False, reason=first.reason)
-        if span < 0.2 * self.proportions.arm_length:
-            return self.solve(side, shoulder + offset / max(span, 1e-6) * 0.3 * self.proportions.arm_length, start)
+        arm = self.proportions.arm_length
+        if span > arm * 0.97:
+            reached = self.solve(side, shoulder + offset * (arm * 0.97 / span), start)
+            reason = (self._beyond(span) if span > arm * REACH_MARGIN else reached.reason)
+            return replace(reached, ok=span <= arm * REACH_MARGIN and reached.ok, reason=reason)
+        if span < 0.2 * arm:
+            return self.solve(side, shoulder + offset / max(span, 1e-6) * 0.3 * arm, start)
         return self.solve(side, target, start)
+
+    def _beyond(self, span: float) -> str:
+        return f"out of the arm's reach: {span:.2f} m from the shoulder, arm {self.proportions.arm_length:.2f} m"
 
     def _refused(self, side: str, target: np.ndarray, reason: str) -> IKSolution:
         angles = np.zeros(4)
