@@ -61,9 +61,7 @@ def main(argv: list[str] | None = None) -> int:
     world = build_world(validate_scene(_scene(1.5, 6.5)))
     agent = Body(world, "agent", other="user")
     agent.place(2.1, 1.95, -90.0, 30.0)
-    agent.begin_batch()
-    agent.rotate_down(0.0)
-    reach = agent.motion
+    agent.begin_batch()  # one step: its frames go from the stand to the apple in hand
     outcome = agent.grab(2)
     agent.end_batch()
     if not outcome.ok:
@@ -71,7 +69,6 @@ def main(argv: list[str] | None = None) -> int:
     renderer = Renderer(world, size, size, "pretty")
     side = FreeCamera((2.1, 1.7, 0.9), 2.6, azimuth=200.0, elevation=-15.0)
     agent.show_motion(0.75)  # most of the way through the reach, before the hands close on it
-    del reach
     _save(out / "reach.png", renderer.rgb(side))
     agent.show_motion(1.0)
     _save(out / "carry.png", renderer.rgb(side))

@@ -107,7 +107,8 @@ class Body:
         self.walked = 0.0
         self._walking = False
         self._reach: IKSolution | None = None
-        self._carry_pose: tuple[tuple[int, bool], Keyframe] | None = None
+        #: The carrying pose of both arms, for (the object held, whether it is held out).
+        self._carry_pose: tuple[tuple[int, bool], tuple[np.ndarray, np.ndarray]] | None = None
         #: The object this step picked up and where it lay (shown there until the hand gets there).
         self._picked_from: tuple[int, np.ndarray] | None = None
         self.motion = MotionLog(self.keyframe())
@@ -153,14 +154,14 @@ class Body:
         handing = self._handing_over()
         cached = self._carry_pose
         if cached is not None and cached[0] == (held, handing):
-            return cached[1].carry
+            return cached[1]
         centre, half_width = self._carried_centre(held, handing)
         grip = min(max(half_width, 0.04), 0.14) + 0.015
         ik = self.animator.ik
         right = ik.towards("right", centre + (0.0, -grip, 0.0))
         left = ik.towards("left", centre + (0.0, grip, 0.0))
         arms = (right.angles, left.angles)
-        self._carry_pose = ((held, handing), Keyframe(0, 0, 0, 0, 0, carry=arms))
+        self._carry_pose = ((held, handing), arms)
         return arms
 
     def _carried_centre(self, held: int, handing: bool) -> tuple[np.ndarray, float]:
