@@ -24,7 +24,10 @@ written and ``missing`` lists the semantic fields.
 category, with its names, pickable, mass, placement (``on_object``: surface; ``on_wall``:
 wall; else a floor piece against a wall) and receptacles (the surfaces, if the VLM says it
 is a receptacle): the generator (a plan's ``asset``) and the tasks then use it like a
-built-in asset.
+built-in asset. The model is the one that the scene ``assets`` entry of
+:func:`imported_asset` builds; the registry keeps that entry and the plan solver writes it
+into the scenes that use the asset, so a saved scene builds it in any process with nothing
+registered.
 """
 
 from __future__ import annotations
