@@ -208,3 +208,37 @@ def test_saved_files_get_ordinary_permissions(tmp_path):
     umask = os.umask(0)
     os.umask(umask)
     assert stat.S_IMODE((tmp_path / "s.json").stat().st_mode) == 0o666 & ~umask
+
+
+def test_save_makes_imported_sources_relative_copying_what_lies_outside(tmp_path):
+    """An absolute source outside the scene's folder is copied beside the file (a .gltf with
+    the buffers it names); one inside the folder is only written relative; the saved scene
+    loads and its assets import from the copies."""
+    import trimesh
+
+    from legent_gym.world.assets.gltf import load_imported_asset
+
+    outside, house = tmp_path / "models", tmp_path / "house"
+    outside.mkdir()
+    (house / "own").mkdir(parents=True)
+    trimesh.creation.box((0.5, 0.3, 0.4)).export(outside / "crate.gltf")  # + gltf_buffer_*.bin
+    trimesh.creation.box((0.2, 0.2, 0.2)).export(house / "own" / "cube.glb")
+    assert sorted(p.name for p in outside.iterdir()) != ["crate.gltf"]  # it names buffer files
+    data = copy.deepcopy(MINIMAL)
+    data["assets"] = [
+        {"id": "crate", "source": str(outside / "crate.gltf"), "yaw": 90, "receptacles": []},
+        {"id": "cube", "source": str(house / "own" / "cube.glb")}]
+    data["objects"] += [{"id": 2, "asset": "crate", "position": [3.0, 2.5, 0.0]},
+                        {"id": 3, "asset": "cube", "position": [0.5, 2.5, 0.0]}]
+    scene = validate_scene(data)
+    save_scene(scene, house / "scene.json")
+    saved = json.loads((house / "scene.json").read_text())
+    assert [a["source"] for a in saved["assets"]] == ["scene_assets/crate/crate.gltf", "own/cube.glb"]
+    assert sorted(p.name for p in (house / "scene_assets" / "crate").iterdir()) == \
+        sorted(p.name for p in outside.iterdir())
+    assert scene.assets[0].source == str(outside / "crate.gltf")  # the scene itself is unchanged
+    loaded = load_scene(house / "scene.json")
+    crate = load_imported_asset(loaded.assets[0], loaded.base_dir)
+    lo, hi = crate.bounds()
+    # glTF y is up: 0.5 wide, 0.4 deep, 0.3 high; turned a quarter, the width lies along y.
+    assert hi - lo == pytest.approx((0.4, 0.5, 0.3), abs=1e-6) and crate.receptacles == []
