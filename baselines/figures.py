@@ -217,7 +217,8 @@ def render(data: dict[str, Any]) -> str:
     else:
         where = f"Measured by `{data['command']}` at commit {commit} on {data['date']}"
         if data.get("machine"):
-            where += f", {data['machine']['cores']} cores ({data['machine']['cpu']})"
+            cores = data["machine"]["cores"]
+            where += f", {cores} core{'' if cores == 1 else 's'} ({data['machine']['cpu']})"
         if data.get("wall_seconds") is not None:
             where += f", {data['wall_seconds']:g} s"
     if data.get("seeds"):
