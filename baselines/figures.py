@@ -392,11 +392,37 @@ def expert_takeover() -> Table:
     return Table(["env", "success where still possible"], rows, seeds=f"0-{EXPERT_SEEDS - 1}")
 
 
+SCAN_ENVS = ("Legent/WhereIs-OneRoom-v0", "Legent/WhereIs-TwoRoom-v0", "Legent/WhereIs-FourRoom-v0")
+
+
+def expert_scan() -> Table:
+    """docs/experts.md, ``find(a)`` strategies: the Where Is expert with ``direct`` (LEGENT's)
+    and ``scan`` on seeds 0-99 of each layout, text actions, 32x32 images."""
+    from baselines.evaluate import ExpertBaseline, run_episodes
+    from legent_gym.experts import Expert
+
+    class ScanExpert(ExpertBaseline):
+        def bind(self, env) -> None:
+            self._expert = Expert(env, find_strategy="scan")
+
+    rows = []
+    for env_id in SCAN_ENVS:
+        row: list[Any] = [env_id]
+        for policy in (ExpertBaseline(), ScanExpert()):
+            runs = run_episodes(policy, env_id, 100, 0, {"width": 32, "height": 32})
+            won = [r.steps for r in runs if r.success]
+            row += [f"{len(won)}/{len(runs)}", round(sum(won) / len(won), 2) if won else float("nan")]
+        rows.append(row)
+    return Table(["env", "direct: successes", "direct: mean actions", "scan: successes", "scan: mean actions"],
+                 rows, seeds="0-99 of each id", formats=["", "", ".1f", "", ".1f"])
+
+
 FIGURES: dict[str, Figure] = {f.name: f for f in (
     Figure("random-policy", "python -m baselines.refresh --only random-policy", random_policy, cheap=True),
     Figure("expert-success", "python -m baselines.refresh --only expert-success", expert_success, cheap=True),
     Figure("expert-200-seeds", "python -m baselines.refresh --only expert-200-seeds", expert_200_seeds, cheap=False),
     Figure("expert-takeover", "python -m baselines.refresh --only expert-takeover", expert_takeover, cheap=False),
+    Figure("expert-scan", "python -m baselines.refresh --only expert-scan", expert_scan, cheap=False),
 )}
 
 
