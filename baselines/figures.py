@@ -392,6 +392,23 @@ def expert_takeover() -> Table:
     return Table(["env", "success where still possible"], rows, seeds=f"0-{EXPERT_SEEDS - 1}")
 
 
+def ppo_random_floor() -> Table:
+    """docs/results.md, PPO's final evaluation: its random row on the current code (the
+    random policy on the evaluation's seeds, env and camera, as ``ppo_comehere.final_evaluation``
+    runs it)."""
+    from baselines.evaluate import RandomPolicy, run_episodes
+    from baselines.ppo_comehere import EVAL_SEED_OFFSET, Config
+
+    config = Config()
+    seed = EVAL_SEED_OFFSET + config.seed
+    runs = run_episodes(RandomPolicy(), config.env_id, config.eval_episodes, seed, config.env_kwargs())
+    rate = sum(r.success for r in runs) / len(runs)
+    rows = [["random", rate, sum(r.episode_return for r in runs) / len(runs), sum(r.steps for r in runs) / len(runs)]]
+    return Table(["policy", "success", "mean return", "mean steps"], rows,
+                 [[None, _rate_stderr(rate, len(runs)), None, None]], seeds=f"{seed}-{seed + len(runs) - 1}",
+                 formats=["", ".3f", ".2f", ".1f"])
+
+
 SCAN_ENVS = ("Legent/WhereIs-OneRoom-v0", "Legent/WhereIs-TwoRoom-v0", "Legent/WhereIs-FourRoom-v0")
 
 
@@ -423,6 +440,7 @@ FIGURES: dict[str, Figure] = {f.name: f for f in (
     Figure("expert-200-seeds", "python -m baselines.refresh --only expert-200-seeds", expert_200_seeds, cheap=False),
     Figure("expert-takeover", "python -m baselines.refresh --only expert-takeover", expert_takeover, cheap=False),
     Figure("expert-scan", "python -m baselines.refresh --only expert-scan", expert_scan, cheap=False),
+    Figure("ppo-random-floor", "python -m baselines.refresh --only ppo-random-floor", ppo_random_floor, cheap=True),
 )}
 
 
