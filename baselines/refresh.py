@@ -11,7 +11,9 @@
 Each figure measured is written to ``docs/data/figures/<name>.json`` with its commit,
 command line, seeds, machine and wall time; then every figure block of the docs is rewritten
 from the data files, and the figures that moved by more than their standard error are
-printed (old -> new).
+printed (old -> new). Tables adopted from the docs' history are never measured again
+here; ``table-full-phases`` reads the full table's kept ``results.json``, so after a new
+full run ``--adopt table-full-phases --commit SHA`` takes that run's phase times.
 """
 
 from __future__ import annotations
