@@ -59,7 +59,7 @@ def main(argv: list[str] | None = None) -> int:
 
     # A reach: the agent stands by the table and takes the apple; shown from the side.
     world = build_world(validate_scene(_scene(1.5, 6.5)))
-    agent = Body(world, "agent", other="user")
+    agent = Body(world, "agent", other="user", record_motion=True)
     agent.place(2.1, 1.95, -90.0, 30.0)
     agent.begin_batch()  # one step: its frames go from the stand to the apple in hand
     outcome = agent.grab(2)

@@ -295,3 +295,44 @@ def test_a_video_shows_the_frames_within_steps():
     assert episode.success and all(len(b) == 2 for b in episode.between)
     frames = read_video(episode_video(episode))
     assert len(frames) == 3 * episode.steps + 1
+
+
+def test_a_user_that_never_moves_is_one_mesh_with_the_same_picture():
+    from legent_gym.world.builder import BuildOptions
+
+    scene = _scene(seed=7)
+    statue = build_world(scene, BuildOptions(user_articulated=False))
+    moving = build_world(scene)
+    users = [np.flatnonzero(w.geom_segment == PERSON_SEGMENTATION_ID["user"]) for w in (statue, moving)]
+    assert len(users[0]) == 1 and len(users[1]) == 10
+    for w in (statue, moving):  # the same (idle) pose in both
+        Body(w, "user", other="agent").place(4.0, 2.0, 180.0)
+    images = []
+    for w in (statue, moving):
+        r = Renderer(w, 128, 128)
+        images.append((r.rgb("agent"), r.segmentation("agent")))
+        r.close()
+    (rgb_a, seg_a), (rgb_b, seg_b) = images
+    person = seg_b == PERSON_SEGMENTATION_ID["user"]
+    assert person.sum() > 100
+    assert np.array_equal(seg_a == PERSON_SEGMENTATION_ID["user"], person)
+    difference = np.abs(rgb_a.astype(int) - rgb_b.astype(int)).max(axis=2)
+    assert (difference[~person] == 0).all()  # the rest of the view is the same
+    # The same person on the same pixels; its shading differs a little (measured: 9 levels
+    # on average, the one mesh against the ten).
+    assert difference[person].mean() < 12
+    # The single-agent envs build the still user; the PettingZoo envs the moving one.
+    env = gym.make("Legent/ComeHere-OneRoom-v0", width=32, height=32)
+    env.reset(seed=0)
+    world = env.unwrapped.episode.world
+    assert (world.geom_segment == PERSON_SEGMENTATION_ID["user"]).sum() == 1
+    env.close()
+
+
+def test_walk_poses_keep_the_joints_within_their_limits():
+    for walked in np.linspace(0.0, 3.0, 61):
+        for frame in (Keyframe(0, 0, 0, 60.0, walked=walked, walking=True),
+                      Keyframe(0, 0, 0, -60.0, walked=walked, walking=False)):
+            for shuffle in (0.0, 0.3, 0.8):
+                q = joint_angles(frame, 1.7, shuffle=shuffle)
+                assert (q >= JOINT_LOW - 1e-12).all() and (q <= JOINT_HIGH + 1e-12).all()

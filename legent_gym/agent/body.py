@@ -86,7 +86,7 @@ class Body:
 
     def __init__(self, world: World, name: str = "agent", *, reach: float = DEFAULT_REACH,
                  pitch_range: tuple[float, float] = PITCH_RANGE, other: str | None = None,
-                 spawn: Spawn | None = None):
+                 spawn: Spawn | None = None, record_motion: bool = False):
         self.world = world
         self.name = name
         self.options = world.options.agent if name == "agent" else world.options.user
@@ -111,6 +111,8 @@ class Body:
         self._carry_pose: tuple[tuple[int, bool], tuple[np.ndarray, np.ndarray]] | None = None
         #: The object this step picked up and where it lay (shown there until the hand gets there).
         self._picked_from: tuple[int, np.ndarray] | None = None
+        #: Whether each step's poses are kept in :attr:`motion` (for :meth:`show_motion`).
+        self.record_motion = record_motion
         self.motion = MotionLog(self.keyframe())
         self._sync()
 
@@ -137,7 +139,7 @@ class Body:
         self.state.pitch = _clamp(float(pitch), *self.pitch_range)
         self._walking, self._reach = False, None
         self._sync()
-        self.motion = MotionLog(self.keyframe())
+        self._log_start()
 
     # -- the person's pose ------------------------------------------------------------------
     def keyframe(self) -> Keyframe:
@@ -189,7 +191,17 @@ class Body:
         local = (math.cos(yaw) * dx + math.sin(yaw) * dy, -math.sin(yaw) * dx + math.cos(yaw) * dy, float(point[2]))
         self._walking = False
         self._reach = self.animator.ik.towards("right", local)
-        self.motion.add(self.keyframe())
+        self._log()
+
+    def _log_start(self) -> None:
+        """Begin this step's pose log (only when poses are recorded)."""
+        if self.record_motion:
+            self.motion = MotionLog(self.keyframe())
+
+    def _log(self) -> None:
+        """Add the pose now to this step's log (only when poses are recorded)."""
+        if self.record_motion:
+            self.motion.add(self.keyframe())
 
     def show_motion(self, t: float) -> None:
         """Pose the person (and what it carries) as it was a share ``t`` (0-1) through the
@@ -236,7 +248,7 @@ class Body:
             if self._walking or self._reach is not None:
                 self._walking, self._reach = False, None
                 self._unsynced = True  # the idle pose is due, even if nothing moves
-            self.motion = MotionLog(self.keyframe())
+            self._log_start()
             self._picked_from = None
         self._batch_depth += 1
 
@@ -319,7 +331,7 @@ class Body:
         self.walked += free
         self._walking, self._reach = free > 1e-6, None
         self._sync()
-        self.motion.add(self.keyframe())
+        self._log()
         if free + 1e-6 < distance:
             return Outcome(True, f"blocked after {free:.2f} m of {distance:.2f} m", moved=free)
         return Outcome(True, moved=free)
@@ -328,7 +340,7 @@ class Body:
         self.state.yaw = (self.state.yaw - degrees) % 360.0
         self._walking, self._reach = False, None
         self._sync()
-        self.motion.add(self.keyframe())
+        self._log()
         return Outcome(True)
 
     def rotate_down(self, degrees: float) -> Outcome:
@@ -336,7 +348,7 @@ class Body:
         self.state.pitch = _clamp(float(wanted), *self.pitch_range)
         self._walking, self._reach = False, None
         self._sync()
-        self.motion.add(self.keyframe())
+        self._log()
         if self.state.pitch != wanted:
             return Outcome(True, f"pitch clamped to {self.state.pitch:.0f} degrees (range {self.pitch_range})")
         return Outcome(True)

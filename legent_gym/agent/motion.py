@@ -33,6 +33,7 @@ import numpy as np
 
 from legent_gym.world.humanoid import (
     ARM_JOINTS,
+    IDLE_POSE,
     JOINT_HIGH,
     JOINT_INDEX,
     JOINT_LOW,
@@ -226,11 +227,7 @@ def _arm_ik(height: float, height_scale: float, girth: float) -> ArmIK:
 
 # -- poses ---------------------------------------------------------------------------------
 
-IDLE = np.zeros(len(JOINTS))
-for _name, _deg in (("right_elbow", 12.0), ("left_elbow", 12.0), ("right_shoulder_abduct", 5.0),
-                    ("left_shoulder_abduct", 5.0)):
-    IDLE[JOINT_INDEX[_name]] = math.radians(_deg)
-IDLE.flags.writeable = False
+IDLE = IDLE_POSE
 _J = JOINT_INDEX
 
 
@@ -275,7 +272,9 @@ def joint_angles(frame: Keyframe, height: float, *, shuffle: float = 0.0, reach_
     if frame.reach is not None and reach_share > 0 and frame.carry is None:  # carrying wins: the hands hold it
         arm = list(ARM_JOINTS["right"])
         q[arm] = q[arm] * (1.0 - reach_share) + frame.reach * reach_share
-    return np.clip(q, JOINT_LOW, JOINT_HIGH)
+    # Within the joints' limits by construction: the swings are smaller than the ranges, the
+    # IK keeps its poses inside them, and a blend of two poses inside stays inside.
+    return q
 
 
 class Animator:

@@ -295,6 +295,9 @@ class Episode:
         self.houses_taken_ahead = 0
         # Houses are made one at a time (the asset caches are shared by all builds).
         self._build_lock = threading.Lock()
+        #: Whether the bodies keep the poses each step passes through (what
+        #: :meth:`in_between` shows; an env with ``frames_per_step`` > 1 sets it).
+        self.record_motion = False
 
     @property
     def house_seed(self) -> int | None:
@@ -464,8 +467,9 @@ class Episode:
                 world = build_world(scene, self.build_options)
         if nav is None:
             nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
-        agent = Body(world, "agent", reach=self.reach, other="user" if scene.user else None, spawn=scene.agent)
-        user = Body(world, "user", other="agent", spawn=scene.user or scene.agent)
+        agent = Body(world, "agent", reach=self.reach, other="user" if scene.user else None, spawn=scene.agent,
+                     record_motion=self.record_motion)
+        user = Body(world, "user", other="agent", spawn=scene.user or scene.agent, record_motion=self.record_motion)
         self.ctx = TaskContext(scene, world, agent, user, nav)
         return self.ctx
 

@@ -145,6 +145,9 @@ class HouseholdEnv(gym.Env):
       the agent's camera in ``info["frames"]`` (RGB, the observation's size; one step is
       still one observation); ``render_mode="rgb_array_list"`` collects the third-person
       view of each, and ``legent-gym collect --format video`` puts them in the video.
+    * ``user_moves``: whether the user moves its limbs (default False: here the user stands
+      still, and is drawn as one mesh in its idle pose, the same picture for less rendering;
+      the PettingZoo envs, where the user acts, set it).
     * ``task_options``: the task's own arguments: WhereIs takes ``objects`` and
       ``receptacles``, the categories it asks about (``legent_gym.tasks.PAPER_WHERE_IS``
       is LEGENT's four objects on its five receptacle kinds); Custom takes ``order``,
@@ -167,7 +170,7 @@ class HouseholdEnv(gym.Env):
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
                  episodes_per_house: int = 1, houses_kept: int = HOUSE_CACHE_SIZE, pin_worker: bool = True,
                  prepare_ahead: bool | None = None, tasks: str | Path | list | None = None,
-                 frames_per_step: int = 1):
+                 frames_per_step: int = 1, user_moves: bool = False):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -190,7 +193,8 @@ class HouseholdEnv(gym.Env):
         self.measure_distance = bool(distance_info) or reward == "dense"
         self.render_mode, self.render_size = render_mode, render_size
         build_options = BuildOptions(agent=BodyOptions(agent_radius, agent_height, camera_height,
-                                                       float(fovy or preset["fovy"])))
+                                                       float(fovy or preset["fovy"])),
+                                     user_articulated=bool(user_moves))
         source = HouseSource(layout, scene=load_scene(scene) if isinstance(scene, str | Path) else scene,
                              house_seed=house_seed, house_pool=house_pool, houses=houses)
         #: The episode engine: house, bodies, goal, views (see :mod:`legent_gym.envs.episode`).
@@ -204,6 +208,7 @@ class HouseholdEnv(gym.Env):
                                houses_kept=houses_kept,
                                prepare_ahead=self.worker_core is not None if prepare_ahead is None else prepare_ahead)
 
+        self.episode.record_motion = frames_per_step > 1
         self.action_space = text_action_space() if action_type == "text" else continuous_action_space(
             self.episode.limits)
         obs = {

@@ -141,6 +141,9 @@ class HouseholdParallelEnv(ParallelEnv):
             raise ValueError(f"rewards must be one of {REWARD_MODES}, got {rewards!r}")
         if isinstance(max_cycles, bool) or not isinstance(max_cycles, int | np.integer) or max_cycles < 1:
             raise ValueError(f"max_cycles must be a positive integer, got {max_cycles!r}")
+        # The user acts here: its body is articulated (walks, looks, reaches), unless the
+        # caller knows it never moves a limb (make_single_agent with a still user).
+        household_kwargs.setdefault("user_moves", True)
         self.core = HouseholdEnv(task, layout, action_type, distance_info=distance_info, **household_kwargs)
         # The user's eyes get the agent's field of view (the builder's default user is 90 degrees).
         episode = self.core.episode

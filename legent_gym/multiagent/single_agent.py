@@ -80,7 +80,13 @@ class SingleAgentEnv(gym.Env):
 def make_single_agent(env_id: str, partner: UserPolicy | str | Any = "still", learner: str = AGENT,
                       **kwargs: Any) -> SingleAgentEnv:
     """A registered multi-agent id (``pettingzoo.make("parallel", env_id, **kwargs)``) with
-    one side fixed."""
+    one side fixed. A user that stands still (``partner="still"`` or a ``StandStill``; it
+    only turns) is drawn as one mesh, as in the single-agent envs (``user_moves=False``),
+    unless ``user_moves`` is given."""
     import pettingzoo
 
+    from legent_gym.multiagent.user_policies import StandStill
+
+    if learner == AGENT and (partner == "still" or isinstance(partner, StandStill)):
+        kwargs.setdefault("user_moves", False)
     return SingleAgentEnv(pettingzoo.make("parallel", env_id, **kwargs), partner=partner, learner=learner)

@@ -84,6 +84,9 @@ class BuildOptions:
     offscreen_size: int = 96
     timestep: float = 0.004
     max_hull_vertices: int = 32
+    #: Whether the user moves its limbs (the PettingZoo envs): an articulated body; else
+    #: (the single-agent envs, where the user stands still) one mesh in the idle pose.
+    user_articulated: bool = True
     #: One geom per part with plain colours and default visual settings: the slow reference
     #: the render benchmark compares against. Never use it for observations.
     naive: bool = False
@@ -512,7 +515,8 @@ class _SpecBuilder:
         wb = self.spec.worldbody
         body = wb.add_body(name=name, mocap=True)
         add_humanoid(body, name, opts.height, appearance_for(name, self.scene.seed), body_group=group,
-                     hand_group=GROUP_HANDS, add_visual=self._person_part, separate_hands=name == "agent")
+                     hand_group=GROUP_HANDS, add_visual=self._person_part, separate_hands=name == "agent",
+                     articulated=name == "agent" or self.options.user_articulated)
         head = wb.add_body(name=f"{name}_head", mocap=True, pos=[0, 0, opts.camera_height])
         cam = head.add_camera(name=f"{name}_camera", fovy=opts.fovy)
         cam.pos = [0, 0, 0]

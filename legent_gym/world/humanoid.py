@@ -85,6 +85,12 @@ JOINTS: tuple[Joint, ...] = (Joint("neck", "head", (0.0, 1.0, 0.0), (-40.0, 50.0
 JOINT_INDEX = {j.name: i for i, j in enumerate(JOINTS)}
 JOINT_LOW = np.radians([j.range_deg[0] for j in JOINTS])
 JOINT_HIGH = np.radians([j.range_deg[1] for j in JOINTS])
+#: The idle pose: arms loose at the sides, elbows a little bent (radians, JOINTS order).
+IDLE_POSE = np.zeros(len(JOINTS))
+for _name, _deg in (("right_elbow", 12.0), ("left_elbow", 12.0), ("right_shoulder_abduct", 5.0),
+                    ("left_shoulder_abduct", 5.0)):
+    IDLE_POSE[JOINT_INDEX[_name]] = math.radians(_deg)
+IDLE_POSE.flags.writeable = False
 #: The arm joints the reach IK moves, per side (shoulder flex, abduct, twist, elbow).
 ARM_JOINTS = {s: tuple(JOINT_INDEX[f"{s}_{n}"] for n in ("shoulder_flex", "shoulder_abduct", "shoulder_twist", "elbow"))
               for s in SIDES}
@@ -189,6 +195,9 @@ def proportions(height: float, girth: float = 1.0) -> Proportions:
                        lower_leg=0.235 * h, head_radius=0.06 * h)
 
 
+#: The hand sites' group: one MuJoCo's default visual options leave out.
+HIDDEN_SITE_GROUP = 5
+
 #: A body's visual, one merged mesh per body: ``add_visual(body, link, group, name)`` (the
 #: builder turns the link's parts into one palette-coloured mesh geom: one draw call).
 AddVisual = Callable[[Any, Link, int, str], None]
@@ -205,15 +214,16 @@ def person_links(height: float, look: Appearance, separate_hands: bool = True) -
     h, g = p.height, p.girth
     robot = look.silhouette == "robot"
 
-    def ellipsoid(centre, radii, rgba) -> Part:
+    def ellipsoid(centre, radii, rgba, subdivisions: int = 1) -> Part:
+        # 80 triangles (20 for small parts): a renderer on a CPU pays per triangle too.
         r = max(radii)
-        return sphere_part(centre, r, rgba, scale=tuple(x / r for x in radii), collision="none")
+        return sphere_part(centre, r, rgba, scale=tuple(x / r for x in radii), collision="none",
+                           subdivisions=subdivisions)
 
     def limb(length: float, radius: float, rgba) -> list[Part]:
-        # A tapered cylinder hanging from the joint, with a ball at the far end.
-        return [cylinder_part((0, 0, -length / 2), radius * 0.9, length, rgba, segments=8, collision="none",
-                              radius_top=radius),
-                sphere_part((0, 0, -length), radius * 0.9, rgba, collision="none")]
+        # A tapered, closed cylinder hanging from the joint (6 sides: 24 triangles).
+        return [cylinder_part((0, 0, -length / 2), radius * 0.9, length, rgba, segments=6, collision="none",
+                              radius_top=radius)]
 
     lower = look.top if look.silhouette == "skirt" else look.bottom
     # The torso body sits at the waist; the pelvis is drawn with it (no joint between them).
@@ -236,7 +246,7 @@ def person_links(height: float, look: Appearance, separate_hands: bool = True) -
     links = {"torso": Link("torso", torso), "head": Link("head", head)}
     ankle_z = p.hip_z - p.upper_leg - p.lower_leg
     for side in SIDES:
-        hand = ellipsoid((0, 0, -0.03 * h), (0.014 * h, 0.028 * h, 0.045 * h), look.skin)
+        hand = ellipsoid((0, 0, -0.03 * h), (0.014 * h, 0.028 * h, 0.045 * h), look.skin, subdivisions=0)
         fore = limb(p.lower_arm, 0.021 * h * g, look.bottom if robot else look.skin)
         links[f"{side}_upper_arm"] = Link("upper_arm", limb(p.upper_arm, 0.026 * h * g, look.top))
         if separate_hands:
@@ -260,14 +270,20 @@ def _moved(part: Part, dz: float) -> Part:
 
 
 def add_humanoid(root, who: str, height: float, look: Appearance, *, body_group: int, hand_group: int,
-                 add_visual: AddVisual | None = None, separate_hands: bool = True) -> None:
+                 add_visual: AddVisual | None = None, separate_hands: bool = True,
+                 articulated: bool = True) -> None:
     """Add a person's parts, joints and hand sites under ``root`` (an ``MjsBody``: the
     avatar's root at the floor, facing +x). ``height`` is the body's nominal height;
     ``look.height_scale`` and ``look.girth`` vary it. ``add_visual`` draws each part (see
     :data:`AddVisual`); without it the skeleton has no geometry. ``separate_hands``: see
-    :func:`person_links`."""
+    :func:`person_links`. ``articulated=False`` (a person who never moves a limb: the user
+    of the single-agent envs) draws the whole person as one mesh in the idle pose on the
+    root (:func:`statue_link`): the same picture in one draw call; the skeleton is built
+    all the same, without geometry."""
     p = proportions(height * look.height_scale, look.girth)
-    links = person_links(height, look, separate_hands)
+    links = person_links(height, look, separate_hands) if articulated else {}
+    if not articulated and add_visual is not None:
+        add_visual(root, statue_link(height, look), body_group, f"{who}/body")
 
     def child(parent, part: str, pos):
         body = parent.add_body(name=f"{who}/{part}", pos=list(pos), gravcomp=1.0)
@@ -290,7 +306,8 @@ def add_humanoid(root, who: str, height: float, look: Appearance, *, body_group:
         upper = child(torso, f"{side}_upper_arm", (0, sign * p.shoulder_y, p.shoulder_z))
         fore = child(upper, f"{side}_lower_arm", (0, 0, -p.upper_arm))
         hand = child(fore, f"{side}_hand", (0, 0, -p.lower_arm))
-        hand.add_site(name=f"{who}/{side}_hand", pos=[0, 0, -p.hand], size=[0.01, 0, 0])
+        # A site group no camera shows (MuJoCo draws sites of groups 0-2 by default).
+        hand.add_site(name=f"{who}/{side}_hand", pos=[0, 0, -p.hand], size=[0.01, 0, 0], group=HIDDEN_SITE_GROUP)
         thigh = child(pelvis, f"{side}_upper_leg", (0, sign * p.hip_y, 0))
         shin = child(thigh, f"{side}_lower_leg", (0, 0, -p.upper_leg))
         child(shin, f"{side}_foot", (0, 0, -p.lower_leg))
@@ -304,6 +321,24 @@ def skeleton_model(height: float, look: Appearance) -> mujoco.MjModel:
     root = spec.worldbody.add_body(name="person")
     add_humanoid(root, "person", height, look, body_group=0, hand_group=0)
     return spec.compile()
+
+
+@lru_cache(maxsize=2 * USER_LOOKS)
+def statue_link(height: float, look: Appearance) -> Link:
+    """The whole person (hands with the forearms) as one link in the idle pose, in the root's
+    frame: every part moved where the skeleton's forward kinematics puts its body."""
+    model = skeleton_model(height, look)
+    data = mujoco.MjData(model)
+    PoseWriter(model, "person").write(data, IDLE_POSE)
+    mujoco.mj_kinematics(model, data)
+    parts: list[Part] = []
+    for part, link in person_links(height, look, False).items():
+        body = model.body(f"person/{part}").id
+        matrix = np.eye(4)
+        matrix[:3, :3] = data.xmat[body].reshape(3, 3)
+        matrix[:3, 3] = data.xpos[body]
+        parts += [piece.transformed(matrix) for piece in link.parts]
+    return Link("body", parts)
 
 
 class PoseWriter:
