@@ -87,7 +87,9 @@ class ArmIK:
         self._qpos = {s: self.writer.addresses[list(ARM_JOINTS[s])] for s in ARM_JOINTS}
         self._low = {s: JOINT_LOW[list(ARM_JOINTS[s])] for s in ARM_JOINTS}
         self._high = {s: JOINT_HIGH[list(ARM_JOINTS[s])] for s in ARM_JOINTS}
-        #: towards() by side and target (to the millimetre): carry poses repeat every episode.
+        #: towards() by side and exact target: carrying poses repeat every episode. (Exact: a
+        #: rounded key would give a target the pose found for another one, and the same
+        #: episode would look different after other episodes in the same process.)
         self._memo: dict[tuple, IKSolution] = {}
 
     def hand(self, side: str, angles: np.ndarray) -> np.ndarray:
@@ -125,7 +127,7 @@ class ArmIK:
         straight, reaches on the way to it (what a person shows when trying): the pose is
         returned with ``ok`` False and the reason."""
         target = np.asarray(target, dtype=float)
-        key = (side, *np.round(target, 3).tolist()) if start is None else None
+        key = (side, *target.tolist()) if start is None else None
         found = self._memo.get(key) if key is not None else None
         if found is None:
             found = self._towards(side, target, start)
