@@ -155,6 +155,42 @@ def evaluate(policy: Policy, env_id: str, episodes: int, seed: int,
     return sum(r.success for r in results) / len(results)
 
 
+def expert_takeover(env_id: str, seeds, random_actions: int, action_type: str = "text") -> tuple[int, int]:
+    """How the expert replans from a state it did not choose: per seed, ``random_actions``
+    random steps (a move of up to 1.5 m, a turn, a tilt; one generator seeded 0 for all the
+    seeds), then the expert for up to 25 actions. Returns (episodes the expert finished,
+    episodes where success was still possible: not ended by the random steps)."""
+    from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight, format_actions
+    from legent_gym.envs.action_spaces import actions_to_dict
+    from legent_gym.wrappers import ExpertInfo
+
+    env = ExpertInfo(gym.make(env_id, width=32, height=32, action_type=action_type,
+                              max_episode_steps=25 + random_actions))
+    rng = np.random.default_rng(0)
+    wins = possible = 0
+    for seed in seeds:
+        _, info = env.reset(seed=seed)
+        ended = False
+        for _ in range(random_actions):
+            step = (MoveForward(round(float(rng.uniform(0, 1.5)), 2)), RotateRight(round(float(rng.uniform(-90, 90)), 1)),
+                    RotateDown(round(float(rng.uniform(-20, 20)), 1)))
+            action = format_actions(step) if action_type == "text" else actions_to_dict(step)
+            _, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                ended = True
+                break
+        if ended:
+            continue
+        possible += 1
+        for _ in range(25):
+            _, _, terminated, truncated, info = env.step(info["expert_action"])
+            if terminated or truncated:
+                break
+        wins += bool(info["success"])
+    env.close()
+    return wins, possible
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="Evaluate a baseline policy (success rate over seeded episodes).")
     parser.add_argument("--policy", default="random",

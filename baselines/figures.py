@@ -356,38 +356,13 @@ def expert_takeover() -> Table:
     """docs/experts.md, "Replanning from any state": per id, on seeds 0-199, five random
     actions (a move of up to 1.5 m, a turn, a tilt; one generator seeded 0 per id), then the
     expert; how often it succeeds where success was still possible (the episode not ended by
-    the random actions). The procedure of ``tests/test_expert_wrappers.py::test_dagger_acceptance``."""
-    import gymnasium as gym
-    import numpy as np
-
-    from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight, format_actions
-    from legent_gym.wrappers import ExpertInfo
+    the random actions): :func:`baselines.evaluate.expert_takeover`, which
+    ``tests/test_expert_wrappers.py`` also runs."""
+    from baselines.evaluate import expert_takeover as takeover
 
     rows = []
     for env_id in DAGGER_ENVS:
-        env = ExpertInfo(gym.make(env_id, width=32, height=32, max_episode_steps=25 + DAGGER_RANDOM_ACTIONS))
-        rng = np.random.default_rng(0)
-        wins = possible = 0
-        for seed in range(EXPERT_SEEDS):
-            _, info = env.reset(seed=seed)
-            ended = False
-            for _ in range(DAGGER_RANDOM_ACTIONS):
-                step = (MoveForward(round(float(rng.uniform(0, 1.5)), 2)),
-                        RotateRight(round(float(rng.uniform(-90, 90)), 1)),
-                        RotateDown(round(float(rng.uniform(-20, 20)), 1)))
-                _, _, terminated, truncated, info = env.step(format_actions(step))
-                if terminated or truncated:
-                    ended = True
-                    break
-            if ended:
-                continue
-            possible += 1
-            for _ in range(25):
-                _, _, terminated, truncated, info = env.step(info["expert_action"])
-                if terminated or truncated:
-                    break
-            wins += bool(info["success"])
-        env.close()
+        wins, possible = takeover(env_id, range(EXPERT_SEEDS), DAGGER_RANDOM_ACTIONS)
         rows.append([env_id.split("/")[1].removesuffix("-v0"), f"{wins}/{possible}"])
     return Table(["env", "success where still possible"], rows, seeds=f"0-{EXPERT_SEEDS - 1}")
 

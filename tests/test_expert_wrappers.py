@@ -7,8 +7,6 @@ import numpy as np
 import pytest
 
 import legent_gym  # noqa: F401
-from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight, format_actions
-from legent_gym.envs.action_spaces import actions_to_dict
 from legent_gym.wrappers import ExpertInfo, ExpertPolicy
 
 
@@ -79,37 +77,12 @@ def test_goal_view_follows_the_camera():
     env.close()
 
 
-def _random_step(rng: np.random.Generator) -> tuple:
-    return (MoveForward(round(float(rng.uniform(0, 1.5)), 2)), RotateRight(round(float(rng.uniform(-90, 90)), 1)),
-            RotateDown(round(float(rng.uniform(-20, 20)), 1)))
-
-
 def dagger_success(env_id: str, seeds, k: int, action_type: str = "text") -> tuple[int, int]:
     """Episodes where the expert, taking over after ``k`` random actions, succeeds; and
-    episodes where success was still possible (not yet ended by the random actions)."""
-    env = ExpertInfo(gym.make(env_id, width=32, height=32, action_type=action_type, max_episode_steps=25 + k))
-    rng = np.random.default_rng(0)
-    wins = possible = 0
-    for seed in seeds:
-        _, info = env.reset(seed=seed)
-        ended = False
-        for _ in range(k):
-            step = _random_step(rng)
-            action = format_actions(step) if action_type == "text" else actions_to_dict(step)
-            _, _, terminated, truncated, info = env.step(action)
-            if terminated or truncated:
-                ended = True
-                break
-        if ended:
-            continue
-        possible += 1
-        for _ in range(25):
-            _, _, terminated, truncated, info = env.step(info["expert_action"])
-            if terminated or truncated:
-                break
-        wins += bool(info["success"])
-    env.close()
-    return wins, possible
+    episodes where success was still possible (the procedure of the expert-takeover figure)."""
+    from baselines.evaluate import expert_takeover
+
+    return expert_takeover(env_id, seeds, k, action_type)
 
 
 @pytest.mark.parametrize("env_id", ["Legent/ComeHere-TwoRoom-v0", "Legent/PickUp-OneRoom-v0"])
