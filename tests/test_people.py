@@ -297,6 +297,23 @@ def test_a_video_shows_the_frames_within_steps():
     assert len(frames) == 3 * episode.steps + 1
 
 
+def test_collect_writes_the_frames_within_steps_into_its_videos(tmp_path):
+    pytest.importorskip("av")
+    import json
+
+    from legent_gym.cli import main
+    from legent_gym.data.video import read_video
+
+    assert main(["collect", "Legent/ComeHere-OneRoom-v0", "--episodes", "1", "--out", str(tmp_path / "c"),
+                 "--format", "legent,video", "--frames-per-step", "3", "--width", "32", "--height", "32",
+                 "--quiet"]) == 0
+    (video,) = (tmp_path / "c" / "video").glob("*.mp4")
+    record = json.loads((tmp_path / "c" / "legent" / "000000" / "trajectory.json").read_text())
+    steps = sum(len(turn.get("trajectory", [])) for turn in record["interactions"])
+    assert steps >= 1
+    assert len(read_video(video)) == 3 * steps + 1  # each step's observation and the 2 frames after it
+
+
 def test_a_user_that_never_moves_is_one_mesh_with_the_same_picture():
     from legent_gym.world.builder import BuildOptions
 
