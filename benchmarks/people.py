@@ -4,8 +4,9 @@
 
 Runs expert episodes (ComeHere-TwoRoom and BringMe-OneRoom, which reaches for, carries and
 hands over an object) on one core, and times what the people add to them: the poses
-(:meth:`Animator.show`, :meth:`Body.keyframe`, which makes the carrying pose) and aiming
-the arm (``Body._aim``), with the IK (:meth:`ArmIK.solve`) inside them, counted once.
+(:meth:`Animator.show`, :meth:`Body.keyframe`, which makes the carrying pose) and the
+arm's reach (:meth:`ArmIK.towards`), with the IK (:meth:`ArmIK.solve`) inside them,
+counted once.
 Prints the milliseconds per env step of all of it and of the IK alone, next to the whole
 step's time, and the IK's time per solve.
 """
@@ -53,9 +54,9 @@ def main() -> None:
     parser.add_argument("--episodes", type=int, default=20)
     args = parser.parse_args()
     pin_to_one_core()
-    # "people": everything the people add to a step (poses, the carrying pose, aiming the
-    # arm, the IK inside them); "ik": the IK alone.
-    for owner, name in ((Animator, "show"), (Body, "keyframe"), (Body, "_aim")):
+    # "people": everything the people add to a step (poses, the carrying pose, the arm's
+    # reach towards what an interaction aims at, the IK inside them); "ik": the IK alone.
+    for owner, name in ((Animator, "show"), (Body, "keyframe"), (ArmIK, "towards")):
         _timed(owner, name, "people")
     _timed(ArmIK, "solve", "ik")
     print(f"{'env id':34} {'steps':>6} {'step ms':>8} {'people ms/step':>15} {'ik ms/step':>11} "

@@ -229,7 +229,6 @@ def _arm_ik(height: float, height_scale: float, girth: float) -> ArmIK:
 
 # -- poses ---------------------------------------------------------------------------------
 
-IDLE = IDLE_POSE
 _J = JOINT_INDEX
 
 
@@ -252,7 +251,7 @@ def joint_angles(frame: Keyframe, height: float, *, shuffle: float = 0.0, reach_
     """The joint angles (radians, :data:`~legent_gym.world.humanoid.JOINTS` order) of a
     person of ``height`` in ``frame``. ``shuffle`` (0-1) adds the small steps of turning in
     place; ``reach_share`` (0-1) how far along the reach the arm is."""
-    q = IDLE.copy()
+    q = IDLE_POSE.copy()
     q[_J["neck"]] = math.radians(min(max(frame.pitch * HEAD_PITCH_SHARE, -40.0), 50.0))
     if frame.walking or shuffle:
         if frame.walking:

@@ -220,6 +220,7 @@ class Renderer:
         #: Geoms the current camera never shows whatever their group: the ceilings, in free
         #: and top-down views (their group also holds the people's hands, which these show).
         self._left_out = np.zeros(0, dtype=np.intp)
+        self._ceiling_geoms: np.ndarray | None = None  # looked up on first use
         self._culls: dict[int, FrustumCull] = {}  # by fixed camera id
         self._rect = mujoco.MjrRect(0, 0, self.width, self.height)
         self._rgb = np.empty((self.height, self.width, 3), dtype=np.uint8)
@@ -346,10 +347,12 @@ class Renderer:
     _no_geoms = np.zeros(0, dtype=np.intp)
 
     def _ceilings(self) -> np.ndarray:
-        """The ceiling geoms (what free and top-down views leave out)."""
-        model = self.world.model
-        found = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, "ceilings")
-        return np.array([found] if found >= 0 else [], dtype=np.intp)
+        """The ceiling geoms (what free and top-down views leave out), looked up once: free
+        and top-down cameras are set up again every frame."""
+        if self._ceiling_geoms is None:
+            found = mujoco.mj_name2id(self.world.model, mujoco.mjtObj.mjOBJ_GEOM, "ceilings")
+            self._ceiling_geoms = np.array([found] if found >= 0 else [], dtype=np.intp)
+        return self._ceiling_geoms
 
     def _draw(self, camera: CameraSpec, segmentation: bool = False) -> None:
         self._ensure()
