@@ -4,8 +4,9 @@
 
 Checks ``REV`` out in a temporary git worktree, then runs the benchmark script (a path under
 ``benchmarks/``, with its arguments) there and here in turn, ``--rounds`` times each, so
-that other load on a shared machine weighs on both alike. Each run's last table row is read
-(numbers after the first column); the output gives every round's rows and, per column, the
+that other load on a shared machine weighs on both alike. Each run's last table row (or,
+with ``--row TEXT``, the last line containing TEXT) is read (numbers after the first word
+or cell); the output gives every round's rows and, per column, the
 after/before ratio of each round and their median.
 """
 
@@ -21,12 +22,18 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 
-def _last_row(output: str) -> list[float]:
-    """The numbers of the last line of a benchmark's table (its first column is a name)."""
+def _last_row(output: str, row: str = "") -> list[float]:
+    """The numbers of the last line of a benchmark's table (its first column is a name) that
+    contains ``row``; Markdown table bars count as blanks."""
     for line in reversed(output.strip().splitlines()):
-        fields = line.split()
+        if row not in line:
+            continue
+        if line.lstrip().startswith("|"):  # a Markdown row: its cells after the name
+            values = [cell.strip() for cell in line.strip().strip("|").split("|")[1:]]
+        else:  # a plain row: its words after the name
+            values = line.split()[1:]
         numbers = []
-        for field in fields[1:]:
+        for field in (v for v in values if v):
             try:
                 numbers.append(float(field.replace(",", "")))
             except ValueError:
@@ -37,20 +44,24 @@ def _last_row(output: str) -> list[float]:
     raise RuntimeError(f"no table row in the benchmark's output:\n{output[-2000:]}")
 
 
-def _run(tree: Path, script: list[str]) -> tuple[str, list[float]]:
+def _run(tree: Path, script: list[str], row: str = "") -> tuple[str, list[float]]:
     env = {"PYTHONPATH": str(tree), "PATH": "/usr/bin:/bin"}
     done = subprocess.run([sys.executable, str(tree / "benchmarks" / script[0]), *script[1:]], cwd=tree,
                           env=env, capture_output=True, text=True)
     if done.returncode:
         raise RuntimeError(f"{script[0]} failed in {tree}:\n{done.stderr[-3000:]}")
-    last = [line for line in done.stdout.strip().splitlines() if line.strip()][-1]
-    return last, _last_row(done.stdout)
+    lines = [line for line in done.stdout.strip().splitlines() if line.strip() and row in line]
+    if not lines:
+        raise RuntimeError(f"no line with {row!r} in the output of {script[0]}")
+    return lines[-1], _last_row(done.stdout, row)
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--before", required=True, help="the commit to compare against")
     parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--row", default="", help="compare the last output line containing this text "
+                        "(default: the last line), e.g. a throughput.py row name")
     parser.add_argument("script", nargs=argparse.REMAINDER, help="-- SCRIPT.py [ARGS...]")
     args = parser.parse_args(argv)
     script = args.script[1:] if args.script[:1] == ["--"] else args.script
@@ -63,8 +74,8 @@ def main(argv: list[str] | None = None) -> int:
         try:
             ratios: list[list[float]] = []
             for round_ in range(args.rounds):
-                line_b, b = _run(before, script)
-                line_a, a = _run(ROOT, script)
+                line_b, b = _run(before, script, args.row)
+                line_a, a = _run(ROOT, script, args.row)
                 print(f"round {round_ + 1} before: {line_b}")
                 print(f"round {round_ + 1} after:  {line_a}")
                 ratios.append([x / y if y else float("nan") for x, y in zip(a, b)])
