@@ -56,6 +56,10 @@ FIGURE_DIR = ROOT / "docs" / "data" / "figures"
 DOC_FILES = ("README.md", "docs/results.md", "docs/experts.md", "docs/performance.md")
 FORMAT_VERSION = 1
 BLOCK = re.compile(r"<!-- figure: (?P<name>[A-Za-z0-9_.-]+) -->\n(?P<body>.*?)<!-- /figure -->", re.S)
+#: One number of a figure quoted in prose: ``<!-- value: FIGURE | ROW | COLUMN [| FORMAT] -->``
+#: the number ``<!-- /value -->`` (ROW: the row's first cell; ``@`` with COLUMN ``commit`` or
+#: ``wall_seconds``: where the figure comes from).
+VALUE = re.compile(r"<!-- value: (?P<spec>[^<>]*?) -->(?P<text>[^<]*?)<!-- /value -->")
 
 
 class FigureError(Exception):
@@ -94,8 +98,6 @@ class Figure:
     number_format: str = ".3f"
     #: A reproduce_table.py run's folder under docs/data/ (its results.json), if it is one.
     folder: str | None = None
-    #: How that results.json becomes the table (default: :func:`vla_table`).
-    from_results: Callable[[dict[str, Any]], Table] | None = None
     #: A table typed in a doc before it was a figure, and kept in no file: (the doc, a line of
     #: the table) that finds it in the doc at the commit given to ``--adopt``.
     typed: tuple[str, str] | None = None
@@ -190,6 +192,8 @@ def _cell(value: Any, number_format: str) -> str:
     if isinstance(value, bool) or value is None or isinstance(value, str):
         return "" if value is None else str(value)
     if isinstance(value, int):
+        if number_format.endswith("d"):  # an integer column's own format
+            return format(value, number_format)
         return f"{value:,}" if abs(value) >= 10_000 else str(value)
     if isinstance(value, float):
         return "n/a" if not math.isfinite(value) else format(value, number_format)
@@ -231,6 +235,32 @@ def render(data: dict[str, Any]) -> str:
     return out + where + "\n"
 
 
+def quoted_value(spec: str, loader: Callable[[str], dict[str, Any]] = load) -> str:
+    """The text of one quoted value (see :data:`VALUE`): the cell at ``ROW`` and ``COLUMN`` of
+    the figure's data, printed as its table prints it, or with ``FORMAT``."""
+    parts = [p.strip() for p in spec.split("|")]
+    if len(parts) not in (3, 4):
+        raise FigureError(f"value {spec!r}: expected 'FIGURE | ROW | COLUMN [| FORMAT]'")
+    name, row, column = parts[:3]
+    data = loader(name)
+    if row == "@":
+        if column not in ("commit", "wall_seconds"):
+            raise FigureError(f"value {spec!r}: '@' quotes the figure's commit or wall_seconds, not {column!r}")
+        cell: Any = data[column][:7] if column == "commit" else data[column]
+        number_format = parts[3] if len(parts) == 4 else "g"
+    else:
+        if column not in data["columns"]:
+            raise FigureError(f"value {spec!r}: figure {name!r} has no column {column!r}")
+        c = data["columns"].index(column)
+        hits = [r for r in data["rows"] if str(r[0]) == row]
+        if len(hits) != 1:
+            raise FigureError(f"value {spec!r}: figure {name!r} has {len(hits)} rows named {row!r} (one expected)")
+        cell = hits[0][c]
+        formats = data.get("formats") or [data.get("number_format", ".3f")] * len(data["columns"])
+        number_format = parts[3] if len(parts) == 4 else formats[c]
+    return _cell(cell, number_format)
+
+
 def blocks(text: str) -> list[tuple[str, str]]:
     """(figure name, block body) of every figure block in a Markdown text, in order."""
     return [(m["name"], m["body"]) for m in BLOCK.finditer(text)]
@@ -238,16 +268,22 @@ def blocks(text: str) -> list[tuple[str, str]]:
 
 def rewrite(text: str, loader: Callable[[str], dict[str, Any]] = load) -> str:
     """``text`` with every figure block rewritten from its data file."""
-    return BLOCK.sub(lambda m: f"<!-- figure: {m['name']} -->\n{render(loader(m['name']))}<!-- /figure -->", text)
+    text = BLOCK.sub(lambda m: f"<!-- figure: {m['name']} -->\n{render(loader(m['name']))}<!-- /figure -->", text)
+    return VALUE.sub(lambda m: f"<!-- value: {m['spec']} -->{quoted_value(m['spec'], loader)}<!-- /value -->", text)
 
 
 def stale_blocks(paths: Sequence[Path] | None = None) -> list[str]:
-    """The blocks that differ from their data files, as ``file: figure``."""
+    """The blocks and quoted values that differ from their data files, as ``file: figure``
+    and ``file: value SPEC``."""
     problems = []
     for path in paths or [ROOT / p for p in DOC_FILES]:
-        for name, body in blocks(path.read_text()):
+        text = path.read_text()
+        for name, body in blocks(text):
             if body != render(load(name)):
                 problems.append(f"{path.name}: {name}")
+        for m in VALUE.finditer(text):
+            if m["text"] != quoted_value(m["spec"]):
+                problems.append(f"{path.name}: value {m['spec']} (the doc says {m['text']!r})")
     return problems
 
 
@@ -445,12 +481,13 @@ def run_folder(folder: str) -> Path:
     return ROOT / "docs" / "data" / folder
 
 
-def rerun_table(folder: str, args: Sequence[str]) -> Table:
-    """Run ``reproduce_table.py`` with ``args`` into ``runs/<folder>`` (resumable), keep its
-    outputs in ``docs/data/<folder>/`` and give its table."""
+def rerun_table(folder: str, args: Sequence[str], out_folder: str | None = None) -> Table:
+    """Run ``reproduce_table.py`` with ``args`` into ``runs/<out_folder>`` (default: ``folder``;
+    the run resumes what is there), keep its outputs in ``docs/data/<folder>/`` and give its
+    table."""
     import shutil
 
-    out = ROOT / "runs" / folder
+    out = ROOT / "runs" / (out_folder or folder)
     subprocess.run([sys.executable, str(ROOT / "baselines" / "reproduce_table.py"), *args, "--out", str(out)],
                    check=True, cwd=ROOT)
     keep = run_folder(folder)
@@ -517,7 +554,7 @@ def adopt(name: str, commit: str, note: str = "") -> dict[str, Any]:
         results = json.loads(path.read_text())
     except (OSError, ValueError) as err:
         raise FigureError(f"{_shown(path)}: {err}") from None
-    table = (fig.from_results or vla_table)(results)
+    table = vla_table(results)
     return {"format": FORMAT_VERSION, "name": name, "command": fig.command, "cheap": False,
             "number_format": fig.number_format, "formats": table.formats, "columns": table.columns,
             "rows": table.rows, "stderr": table.stderr, "seeds": table.seeds, "note": table.note,
@@ -527,20 +564,26 @@ def adopt(name: str, commit: str, note: str = "") -> dict[str, Any]:
             "date": _git("show", "-s", "--format=%cd", "--date=format:%Y-%m-%d %H:%M UTC", full)}
 
 
-def _table_figure(name: str, folder: str, args: str, typed: tuple[str, str] | None = None) -> Figure:
-    return Figure(name, f"python baselines/reproduce_table.py {args} --out runs/{folder}",
-                  lambda: rerun_table(folder, args.split()), cheap=False, folder=folder, typed=typed)
+def _table_figure(name: str, folder: str, args: str, typed: tuple[str, str] | None = None,
+                  continues: str | None = None) -> Figure:
+    """A ``reproduce_table.py`` run kept in ``docs/data/<folder>/``. ``continues``: the output
+    folder of the run it adds to (``--dagger`` adds DAgger rows to a run, ``--paper-where-is``
+    retrains the Where Is models of one), whose data and models it resumes from."""
+    out = continues or folder
+    return Figure(name, f"python baselines/reproduce_table.py {args} --out runs/{out}",
+                  lambda: rerun_table(folder, args.split(), out), cheap=False, folder=folder, typed=typed)
 
 
 FIGURES.update({f.name: f for f in (
     _table_figure("table-full-wide", "table_full_wide",
                   "--scale full --perturb 0.25 --scan --channels 32,64,128,256 --epochs-large 8"),
     _table_figure("table-full-wide-paper", "table_full_wide_paper",
-                  "--scale full --perturb 0.25 --scan --channels 32,64,128,256 --epochs-large 8 --paper-where-is"),
+                  "--scale full --perturb 0.25 --scan --channels 32,64,128,256 --epochs-large 8 --paper-where-is",
+                  continues="table_full_wide"),
     _table_figure("table-full-p25-scan", "table_full_p25_scan", "--scale full --perturb 0.25 --scan"),
     _table_figure("table-full", "table_full", "--scale full"),
     _table_figure("table-full-p25-scan-dagger", "table_full_p25_scan_dagger",
-                  "--scale full --perturb 0.25 --scan --dagger"),
+                  "--scale full --perturb 0.25 --scan --dagger", continues="table_full_p25_scan"),
     # runs that kept no results.json: their tables as typed in docs/results.md (see adopt)
     _table_figure("table-large", "table_large", "--scale large",
                   typed=("docs/results.md", "| VLA-Sep 3K (ours) |")),
@@ -549,16 +592,55 @@ FIGURES.update({f.name: f for f in (
 )})
 
 
-def phases_table(results: dict[str, Any]) -> Table:
-    """The wall time of each phase of a ``reproduce_table.py`` run, from its ``results.json``."""
-    config, wall = results["config"], results["wall_seconds"]
-    trajectories = config["large"] * len(results["data_seeds"])
-    episodes = sum(len(runs) for rates in results["episodes"].values() for runs in rates.values())
-    what = {"data": f"{trajectories:,} expert trajectories",
-            "training": f"{len(results['training'])} models, {results['workers']} at a time",
-            "evaluation": f"{episodes:,} episodes"}
-    rows = [[phase, round(float(wall[phase])), what[phase]] for phase in ("data", "training", "evaluation")]
-    return Table(["phase", "seconds", "what"], rows, formats=["", ",d", ""])
+#: The phases of a ``reproduce_table.py`` run, in the order it runs them, as ``results.json``
+#: names them in ``wall_seconds``.
+PHASES = ("data", "training", "dagger_data", "dagger_training", "evaluation")
+
+
+def run_table(results: dict[str, Any]) -> Table:
+    """What a ``reproduce_table.py`` run's ``results.json`` says of its models (size, data,
+    training time, validation) and, under the table, of its phases' wall time."""
+    rows: list[list[Any]] = []
+    for name, run in results["training"].items():
+        m = run["metrics"]
+        rows.append([name, m["trajectories"], m["steps"], m["epoch"], m["parameters"], round(float(m["seconds"])),
+                     m.get("val_template_accuracy"), m.get("val_bin_accuracy")])  # none: too few to hold out
+    wall = results["wall_seconds"]
+    phases = ", ".join(f"{phase.replace('_', ' ')} {float(wall[phase]):,.0f} s" for phase in PHASES if phase in wall)
+    total = float(wall["total"])
+    note = (f"Validation: the share of held-out steps ({results['training'][rows[0][0]]['config']['validation_fraction']:.0%} "
+            "of each data set's trajectories) whose action template (which call) and number bin (its argument, "
+            f"{results['training'][rows[0][0]]['config']['bins']} bins) the model predicts. Wall time "
+            f"{total:,.0f} s ({total / 60:.1f} minutes, {results['workers']} worker processes): {phases}; a model "
+            "that a resumed run found trained keeps the training time of the run that trained it. "
+            f"Evaluation houses found in the training data: {results['house_overlap_eval_vs_data']}.")
+    if results.get("collections"):  # kept by runs since the field was added
+        note += " Collections (trajectories kept, failed expert attempts skipped, steps): " + "; ".join(
+            f"{task} {c['trajectories']:,}, {c['failed_attempts']}, "
+            f"{c['steps']:,}" for task, c in results["collections"].items()) + "."
+    if results.get("dagger_rounds"):
+        note += " DAgger rounds (rollouts, the learner's success, labelled steps, seconds): " + "; ".join(
+            f"{task} {d['episodes']:,}, {d['learner_success']:.0%}, {d['steps']:,}, {d['seconds']:,.0f}"
+            for task, d in results["dagger_rounds"].items()) + "."
+    return Table(["model", "trajectories", "steps", "epochs", "parameters", "training s",
+                  "validation: template", "validation: number bin"], rows, note=note,
+                 formats=["", ",d", ",d", "d", ",d", ",d", ".0%", ".0%"])
+
+
+def run_details(name: str) -> Callable[[], Table]:
+    """The producer of ``<name>-run``: :func:`run_table` of the results.json that the table
+    run ``name`` kept (nothing measured; the table run's commit named)."""
+    def produce() -> Table:
+        fig = figure(name)
+        path = run_folder(fig.folder or "") / "results.json"
+        try:
+            results = json.loads(path.read_text())
+        except (OSError, ValueError) as err:
+            raise FigureError(f"{_shown(path)}: {err}") from None
+        table = run_table(results)
+        made_from = f"`{_shown(path)}`, kept by the `{name}` run at {load(name)['commit'][:7]}"
+        return Table(table.columns, table.rows, note=table.note, formats=table.formats, made_from=made_from)
+    return produce
 
 
 def _typed(name: str, doc: str, line: str, command: str = "") -> Figure:
@@ -568,11 +650,44 @@ def _typed(name: str, doc: str, line: str, command: str = "") -> Figure:
     return Figure(name, command, None, cheap=False, typed=(doc, line))
 
 
+FIGURES.update({f"{name}-run": Figure(f"{name}-run", f"python -m baselines.refresh --only {name}-run",
+                                        run_details(name), cheap=True)
+                for name, fig in list(FIGURES.items()) if fig.folder and fig.typed is None})
+def side_by_side(sources: Sequence[tuple[str, str]], labels: Sequence[str]) -> Callable[[], Table]:
+    """The producer of a table of rows taken from table figures: for each row label, that row
+    of each ``(figure, what it is)`` source in turn (nothing measured; each source's commit
+    named)."""
+    def produce() -> Table:
+        loaded = [(name, what, load(name)) for name, what in sources]
+        columns = loaded[0][2]["columns"]
+        rows: list[list[Any]] = []
+        errors: list[list[float | None]] = []
+        for label in labels:
+            for name, what, data in loaded:
+                if data["columns"] != columns:
+                    raise FigureError(f"figure {name!r} has other columns than {loaded[0][0]!r}")
+                hits = [i for i, r in enumerate(data["rows"]) if r[0] == label]
+                if len(hits) != 1:
+                    raise FigureError(f"figure {name!r} has {len(hits)} rows named {label!r}")
+                rows.append([f"{label}, {what}", *data["rows"][hits[0]][1:]])
+                errors.append(list((data.get("stderr") or [[None] * len(columns)] * len(data["rows"]))[hits[0]]))
+        made_from = ", ".join(f"`{_shown(data_path(name))}` (at {data['commit'][:7]})" for name, _, data in loaded)
+        return Table(["Model", *columns[1:]], rows, errors, formats=loaded[0][2].get("formats"), made_from=made_from,
+                     note="Success rates over reset seeds 0-99; a standard error is about 0.05 at 100 episodes.")
+    return produce
+
+
+FIGURES["wide-against-narrow"] = Figure(
+    "wide-against-narrow", "python -m baselines.refresh --only wide-against-narrow",
+    side_by_side([("table-full-wide", "wide encoder"), ("table-full-p25-scan", "0.8 M")],
+                 ["VLA-Sep 1K (ours)", "VLA-Sep 10K (ours)", "VLA-Joint 10K (ours)"]), cheap=True)
+FIGURES["recovery-against-clean"] = Figure(
+    "recovery-against-clean", "python -m baselines.refresh --only recovery-against-clean",
+    side_by_side([("table-full-p25-scan", "recovery and scan data"), ("table-full", "clean data, direct expert")],
+                 ["VLA-Sep 1K (ours)", "VLA-Sep 10K (ours)", "VLA-Joint 10K (ours)"]), cheap=True)
 _WIDE_TRAIN = "python -m baselines.vla.train --data runs/table-full-p25/data/<task folder> --out M --epochs 8 " \
     "--threads 1 --channels 32,64,128,256"
 FIGURES.update({f.name: f for f in (
-    Figure("table-full-phases", "python baselines/reproduce_table.py --scale full --out runs/table_full", None,
-           cheap=False, folder="table_full", from_results=phases_table),
     _typed("where-is-paper-seeds", "docs/results.md", "| VLA-Sep 10K of the default task (ours), asked these |"),
     _typed("ppo-curve", "docs/results.md", "| 196k-205k |",
            "python baselines/ppo_comehere.py --timesteps 250000 --out out/ppo_comehere"),

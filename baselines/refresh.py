@@ -12,8 +12,10 @@ Each figure measured is written to ``docs/data/figures/<name>.json`` with its co
 command line, seeds, machine and wall time; then every figure block of the docs is rewritten
 from the data files, and the figures that moved by more than their standard error are
 printed (old -> new). Tables adopted from the docs' history are never measured again
-here; ``table-full-phases`` reads the full table's kept ``results.json``, so after a new
-full run ``--adopt table-full-phases --commit SHA`` takes that run's phase times.
+here. Figures made from other data files (``<table>-run`` from a table run's kept
+``results.json``, the side-by-side tables, the paper beside us) measure nothing and are
+cheap: the default run remakes them after a table run. Numbers quoted in the prose
+(``<!-- value: FIGURE | ROW | COLUMN -->``) are rewritten and checked with the tables.
 """
 
 from __future__ import annotations

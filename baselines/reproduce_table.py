@@ -219,6 +219,19 @@ def collect_data(root: Path, scale: Scale, workers: int, perturb: float = 0.0, s
     return folders
 
 
+def collection_summary(folders: dict[str, Path]) -> dict[str, dict]:
+    """Per task, what its data folder holds (``progress.json`` of ``legent-gym collect``):
+    trajectories kept, failed expert attempts skipped, steps."""
+    from legent_gym.data.collect import PROGRESS_FILE
+
+    out = {}
+    for task, folder in folders.items():
+        progress = json.loads((folder / PROGRESS_FILE).read_text())["progress"]
+        out[task] = {"trajectories": progress["committed"], "failed_attempts": progress["failures"],
+                     "steps": progress["total_steps"]}
+    return out
+
+
 def data_house_seeds(folders: dict[str, Path], limit: int) -> set[int]:
     seeds = set()
     for folder in folders.values():
@@ -254,12 +267,14 @@ def dagger_folder(root: Path, task: str, scale: Scale, paper_where_is: bool = Fa
 
 
 def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = False,
-                        paper_where_is: bool = False) -> dict[str, Path]:
+                        paper_where_is: bool = False) -> tuple[dict[str, Path], dict[str, dict]]:
     """One DAgger round per training task: the large Sep model drives, the expert labels
-    (on the task its data asked: with ``paper_where_is``, LEGENT's Where Is questions)."""
+    (on the task its data asked: with ``paper_where_is``, LEGENT's Where Is questions).
+    Returns the rollout folders and, per task, the round's summary (episodes, the learner's
+    success, labelled steps, seconds)."""
     from baselines.vla.dagger import DaggerConfig, collect_dagger
 
-    folders = {}
+    folders, summaries = {}, {}
     for index, task in enumerate(TRAIN_TASKS):
         folder = dagger_folder(root, task, scale, paper_where_is)
         config = DaggerConfig(str(root / "models" / f"sep{scale.large}-{task}" / FINAL), f"Legent/{task}-v0",
@@ -271,7 +286,8 @@ def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = Fal
         log(f"dagger {task}: learner success {summary['learner_success']:.2f}, {summary['steps']} steps, "
             f"{summary['seconds']:.0f} s")
         folders[task] = folder
-    return folders
+        summaries[task] = {k: summary[k] for k in ("episodes", "learner_success", "steps", "seconds")}
+    return folders, summaries
 
 
 def dagger_runs(root: Path, folders: dict[str, Path], dagger: dict[str, Path], scale: Scale) -> dict[str, TrainConfig]:
@@ -535,7 +551,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
 
     if dagger:
         t = time.monotonic()
-        rollouts = collect_dagger_data(out, scale, workers, scan, paper_where_is)
+        rollouts, dagger_rounds = collect_dagger_data(out, scale, workers, scan, paper_where_is)
         times["dagger_data"] = time.monotonic() - t
         t = time.monotonic()
         more = dagger_runs(out, folders, rollouts, scale)
@@ -557,6 +573,8 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
              "perturb": perturb, "scan": scan, "paper_where_is": paper_where_is, "dagger": scale.dagger_rollouts if dagger else 0,
              "data_seeds": {t: DATA_SEED + i * DATA_SEED_STRIDE for i, t in enumerate(TRAIN_TASKS)},
              "house_overlap_eval_vs_data": overlap, "wall_seconds": {k: round(v, 1) for k, v in times.items()},
+             "collections": collection_summary(folders),
+             **({"dagger_rounds": dagger_rounds} if dagger else {}),
              "training": {name: {"config": runs[name].to_dict(), "metrics": metrics[name]} for name in runs},
              "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""}
     ours = write_outputs(out, scale_name, scale, evaluated, extra)

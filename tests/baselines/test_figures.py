@@ -45,6 +45,32 @@ def test_a_figure_edited_by_hand_is_caught(tmp_path):
     assert rewrite(edited) == text  # rewriting puts the measured figure back
 
 
+def test_a_quoted_value_edited_by_hand_is_caught(tmp_path):
+    """A number in the prose that quotes a figure is checked and rewritten like a table."""
+    path = figures.ROOT / "docs" / "results.md"
+    text = path.read_text()
+    match = next(m for m in figures.VALUE.finditer(text) if m["spec"].startswith("table-full |"))
+    assert match["text"] == figures.quoted_value(match["spec"])
+    edited = text[:match.start("text")] + "0.99" + text[match.end("text"):]
+    copy = tmp_path / "results.md"
+    copy.write_text(edited)
+    assert stale_blocks([copy]) == [f"results.md: value {match['spec']} (the doc says '0.99')"]
+    assert rewrite(edited) == text
+
+
+def test_quoted_values_name_what_is_wrong():
+    assert figures.quoted_value("random-policy | Legent/ComeHere-OneRoom-v0 | success (100 episodes)") == \
+        f"{load('random-policy')['rows'][0][1]:.2f}"
+    assert figures.quoted_value("random-policy | @ | commit") == load("random-policy")["commit"][:7]
+    for spec, message in [("random-policy | Legent/ComeHere-OneRoom-v0 | no such column", "no column"),
+                          ("random-policy | no such row | mean actions", "0 rows named"),
+                          ("random-policy | @ | machine", "commit or wall_seconds"),
+                          ("random-policy | one part", "expected"),
+                          ("no-such-figure | a | b", "no data file")]:
+        with pytest.raises(FigureError, match=message):
+            figures.quoted_value(spec)
+
+
 def test_a_block_without_a_data_file_is_named(tmp_path, monkeypatch):
     monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
     with pytest.raises(FigureError, match="random-policy.*baselines.refresh --only random-policy"):
@@ -68,6 +94,7 @@ def test_cheap_figures_reproduce(name):
     table = FIGURES[name].produce()
     assert table.columns == committed["columns"]
     assert table.rows == committed["rows"], f"{name} is stale: run `python -m baselines.refresh --only {name}`"
+    assert table.note == committed["note"]
 
 
 def test_render_says_where_the_figure_comes_from():

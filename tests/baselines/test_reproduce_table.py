@@ -71,9 +71,15 @@ def check_outputs(out: Path, scale: str, paper_where_is: bool = False) -> dict:
     for task in TRAIN_TASKS:
         progress = json.loads((data_folder(out, task, paper_where_is=paper_where_is) / "progress.json").read_text())
         assert progress["progress"]["committed"] == config.large
+        # results.json keeps what each collection and DAgger round made (the run's figures read it).
+        assert results["collections"][task] == {"trajectories": config.large,
+                                                "failed_attempts": progress["progress"]["failures"],
+                                                "steps": progress["progress"]["total_steps"]}
         dagger = json.loads((dagger_folder(out, task, config, paper_where_is) / "dagger.json").read_text())
         assert dagger["episodes"] == config.dagger_rollouts and dagger["config"]["policy"].endswith(
             f"sep{config.large}-{task}/model.pt")
+        assert results["dagger_rounds"][task] == {k: dagger[k] for k in ("episodes", "learner_success", "steps",
+                                                                         "seconds")}
         # The DAgger model learned from the demonstrations and every rollout.
         metrics = results["training"][f"sep{config.large}-{task}-dagger"]["metrics"]
         assert metrics["trajectories"] == config.large + config.dagger_rollouts
@@ -86,7 +92,13 @@ def test_small_scale_from_the_command_line(tmp_path):
     assert done.returncode == 0, done.stderr[-3000:]
     assert "| VLA-Joint 20 (ours) |" in done.stdout and "house seeds shared" in done.stdout
     assert "| VLA-Sep 20 + DAgger (ours) |" in done.stdout
-    check_outputs(tmp_path, "small")
+    results = check_outputs(tmp_path, "small")
+    # The run's figure (models, validation, phases, collections, DAgger rounds) reads that record.
+    from baselines.figures import run_table
+
+    run = run_table(results)
+    assert [row[0] for row in run.rows] == list(results["training"])
+    assert "DAgger rounds" in run.note and "Collections" in run.note and "dagger training" in run.note
     # A second run would resume: every model is recognised as trained by this configuration.
     folders = {task: tmp_path / "data" / task for task in TRAIN_TASKS}
     dagger = {task: dagger_folder(tmp_path, task, SCALES["small"]) for task in TRAIN_TASKS}
