@@ -501,7 +501,7 @@ def rerun_table(folder: str, args: Sequence[str], out_folder: str | None = None)
 def typed_table(text: str, line: str) -> tuple[list[str], list[str], list[list[str]]]:
     """The Markdown table of ``text`` that holds a line containing ``line``: its columns, the
     alignment row's cells and its rows, each cell as typed."""
-    lines = text.splitlines()
+    lines = [row.strip() for row in text.splitlines()]  # a table may be indented (in a list)
     hits = [i for i, row in enumerate(lines) if row.startswith("|") and line in row]
     if len(hits) != 1:
         raise FigureError(f"{len(hits)} table lines contain {line!r} (one expected)")
@@ -705,6 +705,19 @@ FIGURES.update({f.name: f for f in (
     _typed("ablation-scan", "docs/results.md", "| **scan**, clean |"),
     _typed("ablation-aux", "docs/results.md", "| the same | W = 0.5 | 0.56 |"),
     _typed("variants-medium", "docs/results.md", "| plain behaviour cloning (no mirroring) |"),
+    # docs/performance.md: each fast path measured against the code before it, at the commits the doc names
+    _typed("render-fast-vs-stock", "docs/performance.md", "| 64 | 2528 |", "python benchmarks/render.py"),
+    _typed("render-without-culling", "docs/performance.md", "| 96 | 1218-1318 |"),
+    _typed("step-view-culling", "docs/performance.md", "| ComeHere-TwoRoom | 1490 |",
+           "python benchmarks/step.py --steps 3000"),
+    _typed("step-episode-engine", "docs/performance.md", "| ComeHere-OneRoom | 0.80 / 0.80 |",
+           "python benchmarks/step.py --steps 1000 --resets 10"),
+    _typed("step-frame-savings", "docs/performance.md", "| commit 5586812, its reference |",
+           "python benchmarks/step.py --steps 3000"),
+    _typed("step-own-cost", "docs/performance.md", "| before | 1793 |", "python benchmarks/step.py"),
+    _typed("generation-fast-paths", "docs/performance.md", "| 1 | before | 21.6 |",
+           "python benchmarks/generation.py"),
+    _typed("soak", "docs/performance.md", "| steps, resets, make/close cycles |", "python benchmarks/soak.py"),
 )})
 
 
@@ -830,6 +843,109 @@ def throughput() -> Table:
 
 FIGURES["throughput"] = Figure("throughput", "python benchmarks/throughput.py " + " ".join(THROUGHPUT_ARGS),
                                throughput, cheap=False)
+
+
+def benchmark(script: str, args: Sequence[str]) -> dict[str, Any]:
+    """Run ``benchmarks/<script>`` with ``args`` and ``--json``; its report."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as scratch:
+        out = Path(scratch) / "report.json"
+        subprocess.run([sys.executable, str(ROOT / "benchmarks" / script), *args, "--json", str(out)], check=True,
+                       cwd=ROOT)
+        return json.loads(out.read_text())
+
+
+def _load_note(report: dict[str, Any]) -> str:
+    machine = report["machine"]
+    return f"Load average {machine['load_before']:.1f} before the run, {machine['load_after']:.1f} after."
+
+
+RENDER_ARGS = ("--frames", "600")
+
+
+def render_speed(args: Sequence[str] = RENDER_ARGS) -> Table:
+    """docs/performance.md, "Rendering": ``benchmarks/render.py``: frames/s of our renderer,
+    MuJoCo's own renderer drawing the same image, and the naive build, in one run."""
+    report = benchmark("render.py", args)
+    rows: list[list[Any]] = []
+    for size, r in report["rows"].items():
+        if size.isdigit():
+            rows.append([int(size), round(r["ours_fps"]), round(r["stock_fps"]), r["ours_fps"] / r["stock_fps"],
+                         round(r["naive_fps"], 1), r["ours_fps"] / r["naive_fps"]])
+    note = (f"Egocentric RGB of `examples/scenes/two_room_furnished.json`, the agent turning, one core. Building the "
+            f"scene: {report['rows']['build']['ms']:.1f} ms (median); a renderer for a new scene once the process's "
+            f"GL context exists: {report['rows']['renderer']['ms']:.1f} ms. " + _load_note(report))
+    return Table(["size", "ours (`fast`) fps", "stock fps", "ours/stock", "naive build fps", "ours/naive"], rows,
+                 note=note, formats=["d", "d", "d", ".2f", ".1f", ".0f"])
+
+
+STEP_ARGS = ("--ids", "Legent/ComeHere-OneRoom-v0,Legent/ComeHere-TwoRoom-v0,Legent/WhereIs-TwoRoom-v0",
+             "--steps", "3000", "--resets", "20")
+
+
+def step_speed(args: Sequence[str] = STEP_ARGS) -> Table:
+    """docs/performance.md, "Environment steps": ``benchmarks/step.py``: steps/s beside the raw
+    render of the same poses, and the median reset with a new house."""
+    report = benchmark("step.py", args)
+    rows = [[env_id.replace("Legent/", ""), round(r["steps_per_s"]), round(r["render_per_s"]), r["ratio"],
+             r["cpu_ratio"], r["reset_ms"]] for env_id, r in report["rows"].items()]
+    note = (f"{report['args']['steps']:,} steps at {report['args']['size']} px, one core, random text actions; "
+            "steps and raw renders alternate in blocks of "
+            f"{report['args']['block']}. " + _load_note(report))
+    return Table(["env id", "steps/s", "raw render/s", "ratio", "cpu ratio", "reset ms (median)"], rows, note=note,
+                 formats=["", "d", "d", ".2f", ".2f", ".1f"])
+
+
+GENERATION_ARGS = ("--houses", "30")
+
+
+def generation_speed(args: Sequence[str] = GENERATION_ARGS) -> Table:
+    """docs/performance.md, "House generation": ``benchmarks/generation.py``: ms per house
+    by stage, and the MuJoCo compile of the same scenes (the reference, the same run)."""
+    report = benchmark("generation.py", args)
+    rows = [[int(n), r["gen"], r["build"], r["compile"], r["nav"], r["total"], r["houses_per_s"], r["path"],
+             r["path_p95"]] for n, r in report["rows"].items()]
+    note = (f"Medians over {report['args']['houses']} houses per size, one core; each stage's median of its own, so "
+            "they need not add up to the total. " + _load_note(report))
+    return Table(["rooms", "generation ms", "build ms", "of it compile ms", "nav grid ms", "total ms", "houses/s",
+                  "path query ms (median)", "p95"], rows, note=note,
+                 formats=["d", ".1f", ".1f", ".1f", ".1f", ".1f", ".1f", ".2f", ".2f"])
+
+
+EXPERT_SPEED_ARGS = ("--ids", "Legent/ComeHere-OneRoom-v0,Legent/PickUp-OneRoom-v0,Legent/PutOn-FourRoom-v0",
+                     "--attempts", "40", "--workers", "1", "--collect-ids", "Legent/ComeHere-OneRoom-v0")
+
+
+def expert_speed(args: Sequence[str] = EXPERT_SPEED_ARGS) -> Table:
+    """docs/experts.md, "Measured": ``benchmarks/experts.py``: the expert's planning time per
+    action and what collection gets, resets included, one worker on one core."""
+    report = benchmark("experts.py", args)
+    rows: list[list[Any]] = []
+    for key, r in report["rows"].items():
+        env_id = key.rsplit(" ", 1)[0].replace("Legent/", "")
+        if key.endswith("collect x1"):
+            rows.append([env_id.removesuffix(" collect") + ", `legent-gym collect`", None, None,
+                         r["trajectories_per_s"], r["trajectories_per_cpu_s"], None, r["success_rate"]])
+        else:
+            rows.append([env_id, r["expert_ms"], r["actions_per_s"], r["trajectories_per_s"],
+                         r["trajectories_per_cpu_s"], r["reset_ms"], r["success_rate"]])
+    note = (f"{report['args']['size']} x {report['args']['size']} images, {report['args']['attempts']} attempts each (a reset with a new house, then the expert's action until the episode "
+            "ends), one worker pinned to one core. `traj/cpu-s` is the rate per second of CPU time used: what an "
+            "idle core would give. " + _load_note(report))
+    return Table(["env", "expert ms per action (median)", "actions/s", "trajectories/s", "traj/cpu-s",
+                  "reset ms (median)", "expert success"], rows, note=note,
+                 formats=["", ".2f", ".0f", ".1f", ".1f", ".1f", ".0%"])
+
+
+FIGURES.update({f.name: f for f in (
+    Figure("render", "python benchmarks/render.py " + " ".join(RENDER_ARGS), render_speed, cheap=False),
+    Figure("step", "python benchmarks/step.py " + " ".join(STEP_ARGS), step_speed, cheap=False),
+    Figure("generation", "python benchmarks/generation.py " + " ".join(GENERATION_ARGS), generation_speed,
+           cheap=False),
+    Figure("expert-speed", "python benchmarks/experts.py " + " ".join(EXPERT_SPEED_ARGS), expert_speed,
+           cheap=False),
+)})
 
 
 def figure(name: str) -> Figure:

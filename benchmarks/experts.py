@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import os
 import statistics
 import sys
@@ -34,7 +33,7 @@ import time
 from pathlib import Path
 
 import gymnasium as gym
-from benchmarks_common import pin_to_one_core
+from benchmarks_common import pin_to_one_core, write_report
 
 import legent_gym
 from legent_gym.workers import map_ordered, mp_context
@@ -151,6 +150,7 @@ def main(argv=None) -> int:
     parser.add_argument("--collect-ids", default="Legent/ComeHere-OneRoom-v0")
     parser.add_argument("--json", help="also write the figures to this JSON file")
     args = parser.parse_args(argv)
+    load_before = os.getloadavg()[0]
     worker_counts = [int(w) for w in args.workers.split(",")]
     results = {}
     print(f"{'env id':34s} {'workers':>7} {'act/s':>7} {'traj/s':>7} {'traj/cpu-s':>10} {'expert ms':>9} "
@@ -170,8 +170,7 @@ def main(argv=None) -> int:
         print(f"{env_id:34s} collect (minari+legent, 1 worker): {r['trajectories_per_s']:.2f} traj/s, "
               f"{r['trajectories_per_cpu_s']:.2f} traj/cpu-s, success {r['success_rate']:.0%}")
     if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(results, fh, indent=1)
+        write_report(args.json, args, results, load_before)
     return 0
 
 

@@ -16,12 +16,13 @@ generation of the same number of seeds in the same run (the ratio: plan / FourRo
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
 import time
 
 import numpy as np
-from benchmarks_common import pin_to_one_core
+from benchmarks_common import pin_to_one_core, write_report
 
 import legent_gym  # noqa: F401
 from legent_gym.world.builder import build_spec
@@ -91,7 +92,9 @@ def main(argv=None) -> int:
     parser.add_argument("--houses", type=int, default=30)
     parser.add_argument("--rooms", default="1,2,4,6")
     parser.add_argument("--plans", action="store_true", help="solve the example plans instead (seeds: --houses)")
+    parser.add_argument("--json", metavar="OUT", help="also write the figures to this JSON file (not with --plans)")
     args = parser.parse_args(argv)
+    load_before = os.getloadavg()[0]
     pin_to_one_core()
     generate_house(0, "OneRoom")  # warm caches (asset models) before timing
     if args.plans:
@@ -99,10 +102,14 @@ def main(argv=None) -> int:
         return 0
     print(f"{'rooms':>5} {'gen ms':>7} {'build ms':>9} {'(compile)':>9} {'nav ms':>7} {'total ms':>9} "
           f"{'houses/s':>9} {'path ms':>8} {'p95':>6}")
+    rows = {}
     for n in (int(x) for x in args.rooms.split(",")):
         r = bench(n, args.houses)
         print(f"{n:>5} {r['gen']:>7.1f} {r['build']:>9.1f} {r['compile']:>9.1f} {r['nav']:>7.1f} {r['total']:>9.1f} "
               f"{r['houses_per_s']:>9.1f} {r['path']:>8.2f} {r['path_p95']:>6.2f}")
+        rows[str(n)] = r
+    if args.json:
+        write_report(args.json, args, rows, load_before)
     return 0
 
 

@@ -20,13 +20,20 @@ Figures are medians over repeats; treat them as orders of magnitude on shared ma
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections.abc import Callable
 from functools import partial
 from pathlib import Path
 
-from benchmarks_common import StockRender, median_ms, pin_to_one_core, place_agent_camera
+from benchmarks_common import (
+    StockRender,
+    median_ms,
+    pin_to_one_core,
+    place_agent_camera,
+    write_report,
+)
 
 import legent_gym  # noqa: F401  (sets MUJOCO_GL)
 from legent_gym.world.builder import BuildOptions, build_world
@@ -56,7 +63,9 @@ def main(argv=None) -> int:
     parser.add_argument("--scene", default=str(DEFAULT_SCENE))
     parser.add_argument("--frames", type=int, default=600)
     parser.add_argument("--sizes", default="64,96,128,224")
+    parser.add_argument("--json", metavar="OUT", help="also write the figures to this JSON file")
     args = parser.parse_args(argv)
+    load_before = os.getloadavg()[0]
     pin_to_one_core()
 
     scene = load_scene(args.scene)
@@ -76,14 +85,20 @@ def main(argv=None) -> int:
     create_ms = median_ms(new_renderer, 10) - build_ms
 
     print(f"\n{'size':>6} {'ours fps':>10} {'stock fps':>10} {'ratio':>7} {'naive fps':>10} {'ratio':>7}")
+    rows = {}
     for size in (int(s) for s in args.sizes.split(",")):
         renderer, naive_renderer = Renderer(fast_world, size, size, "fast"), NaiveRenderer(naive_world, size)
         ours = frames_per_second(partial(renderer.rgb, "agent"), fast_world, args.frames)
         stock = frames_per_second(StockRender(renderer).rgb, fast_world, args.frames)
         naive = frames_per_second(partial(naive_renderer.rgb, "agent"), naive_world, max(args.frames // 10, 30))
         print(f"{size:>6} {ours:>10.0f} {stock:>10.0f} {ours / stock:>6.2f}x {naive:>10.0f} {ours / naive:>6.1f}x")
+        rows[str(size)] = {"ours_fps": ours, "stock_fps": stock, "naive_fps": naive}
     print(f"\nbuild (scene -> compiled model): {build_ms:.1f} ms median")
     print(f"renderer creation for a new scene (GL context reused): {create_ms:.1f} ms median")
+    if args.json:
+        rows["build"] = {"ms": build_ms}
+        rows["renderer"] = {"ms": create_ms}
+        write_report(args.json, args, rows, load_before)
     return 0
 
 

@@ -19,13 +19,14 @@ shared machine weighs on both alike. ``cpu ratio`` is the same ratio in process 
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import sys
 import time
 
 import gymnasium as gym
 import numpy as np
-from benchmarks_common import StockRender, pin_to_one_core, place_agent_camera
+from benchmarks_common import StockRender, pin_to_one_core, place_agent_camera, write_report
 
 import legent_gym
 
@@ -89,14 +90,20 @@ def main(argv=None) -> int:
     parser.add_argument("--resets", type=int, default=20)
     parser.add_argument("--size", type=int, default=96)
     parser.add_argument("--block", type=int, default=50, help="steps per timed block (steps and renders alternate)")
+    parser.add_argument("--json", metavar="OUT", help="also write the figures to this JSON file")
     args = parser.parse_args(argv)
+    load_before = os.getloadavg()[0]
     pin_to_one_core()
+    rows = {}
     print(f"{'env id':36s} {'steps/s':>8} {'render/s':>9} {'ratio':>6} {'cpu ratio':>9} {'reset ms':>9} "
           f"{'resets/s':>9}")
     for env_id in args.ids.split(","):
         r = bench(env_id, args.steps, args.size, args.resets, args.block)
         print(f"{env_id:36s} {r['steps_per_s']:>8.0f} {r['render_per_s']:>9.0f} {r['ratio']:>6.2f} "
               f"{r['cpu_ratio']:>9.2f} {r['reset_ms']:>9.1f} {r['resets_per_s']:>9.1f}")
+        rows[env_id] = r
+    if args.json:
+        write_report(args.json, args, rows, load_before)
     return 0
 
 

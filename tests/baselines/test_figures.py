@@ -146,3 +146,19 @@ def test_the_paper_rows_are_the_quoted_table():
     assert paper["source"] == "paper"
     assert paper["rows"] == [[label, *rates] for label, rates in PAPER_ROWS]
     assert set(paper["conditions"]) == {label for label, _ in PAPER_ROWS}
+
+
+@pytest.mark.parametrize(("producer", "args"), [
+    (figures.render_speed, ["--frames", "20", "--sizes", "32"]),
+    (figures.step_speed, ["--ids", "Legent/ComeHere-OneRoom-v0", "--steps", "100", "--resets", "2"]),
+    (figures.generation_speed, ["--houses", "2", "--rooms", "1"]),
+    (figures.expert_speed, ["--ids", "Legent/ComeHere-OneRoom-v0", "--attempts", "2", "--workers", "1",
+                            "--collect-ids", "Legent/ComeHere-OneRoom-v0"]),
+])
+def test_speed_figures_read_their_benchmarks_reports(producer, args):
+    """The speed figures run their benchmark script (here with small arguments) and make a
+    row of every row it measured, with the load it ran under."""
+    table = producer(args)
+    assert table.rows and all(len(row) == len(table.columns) for row in table.rows)
+    assert all(isinstance(v, int | float) and v > 0 for v in table.rows[0][1:] if v is not None)
+    assert "Load average" in table.note
