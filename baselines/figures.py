@@ -53,7 +53,8 @@ ROOT = Path(__file__).resolve().parents[1]
 #: Where the figures' data files live.
 FIGURE_DIR = ROOT / "docs" / "data" / "figures"
 #: The Markdown files whose figure blocks :func:`refresh_docs` rewrites.
-DOC_FILES = ("README.md", "docs/results.md", "docs/experts.md", "docs/performance.md")
+DOC_FILES = ("README.md", "docs/results.md", "docs/experts.md", "docs/performance.md", "docs/datasets.md",
+             "docs/multiagent.md", "docs/scale.md", "docs/vlm.md")
 FORMAT_VERSION = 1
 BLOCK = re.compile(r"<!-- figure: (?P<name>[A-Za-z0-9_.-]+) -->\n(?P<body>.*?)<!-- /figure -->", re.S)
 #: One number of a figure quoted in prose: ``<!-- value: FIGURE | ROW | COLUMN [| FORMAT] -->``
@@ -718,6 +719,16 @@ FIGURES.update({f.name: f for f in (
     _typed("generation-fast-paths", "docs/performance.md", "| 1 | before | 21.6 |",
            "python benchmarks/generation.py"),
     _typed("soak", "docs/performance.md", "| steps, resets, make/close cycles |", "python benchmarks/soak.py"),
+    # the other docs' measured tables
+    _typed("collect-speed", "docs/datasets.md", "| expert loop, 1 worker |",
+           "python benchmarks/experts.py --ids Legent/ComeHere-OneRoom-v0 --attempts 40"),
+    _typed("collect-speed-all-ids", "docs/datasets.md", "| ComeHere-OneRoom | 3.0 |",
+           "python benchmarks/experts.py --attempts 20 --collect-ids ''"),
+    _typed("multiagent-speed", "docs/multiagent.md", "| Legent/ComeHere-OneRoom-v0 | random |",
+           "python benchmarks/multiagent.py (--user still, --distance-info for those rows)"),
+    _typed("scale-backends", "docs/scale.md", "| process backend, 2 workers |",
+           "python benchmarks/scale.py --episodes 100 --rounds 3"),
+    _typed("vlm-tiny-speed", "docs/vlm.md", "| full fine-tuning |"),
 )})
 
 
