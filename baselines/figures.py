@@ -31,6 +31,7 @@ text). Such a table says beside it that it was not re-measured on the current co
 from __future__ import annotations
 
 import datetime
+import functools
 import json
 import math
 import os
@@ -644,6 +645,70 @@ def run_details(name: str) -> Callable[[], Table]:
     return produce
 
 
+#: The PPO run of docs/results.md; its two figures (the curve, the final evaluation) read its outputs.
+PPO_COMMAND = ("baselines/ppo_comehere.py", "--timesteps", "250000", "--out", "out/ppo_comehere")
+#: Rollouts per stretch of the curve's table, and how many stretches it shows.
+PPO_STRETCH, PPO_STRETCHES = 10, 6
+
+
+@functools.cache
+def ppo_run() -> Path:
+    """Run the PPO baseline once per process (both PPO figures read it); its output folder."""
+    subprocess.run([sys.executable, *PPO_COMMAND], check=True, cwd=ROOT)
+    return ROOT / PPO_COMMAND[PPO_COMMAND.index("--out") + 1]
+
+
+def ppo_curve_table(rows: list[dict[str, str]]) -> Table:
+    """The PPO curve (``ppo_curve.csv``) as a table: the random row, then stretches of
+    ``PPO_STRETCH`` rollouts spread evenly over the run (episodes summed, rates weighted by them)."""
+    random = [r for r in rows if r["policy"] == "random"]
+    ppo = [r for r in rows if r["policy"] != "random"]
+    out: list[list[Any]] = [["random policy, same envs and seeds", int(r["episodes"]), float(r["success_rate"]),
+                             float(r["mean_return"])] for r in random]
+    count = max(1, len(ppo) - PPO_STRETCH + 1)
+    starts = sorted({round(i * (count - 1) / max(1, PPO_STRETCHES - 1)) for i in range(PPO_STRETCHES)})
+    for start in starts:
+        part = ppo[start:start + PPO_STRETCH]
+        episodes = sum(int(r["episodes"]) for r in part)
+        if not episodes:
+            continue
+
+        def mean(key: str, part: list[dict[str, str]] = part, episodes: int = episodes) -> float:
+            return sum(float(r[key]) * int(r["episodes"]) for r in part) / episodes
+
+        label = f"{round(int(part[0]['timesteps']) / 1000)}k-{round(int(part[-1]['timesteps']) / 1000)}k"
+        out.append([label, episodes, mean("success_rate"), mean("mean_return")])
+    return Table(["timesteps", "episodes", "success rate", "mean return"], out,
+                 note=f"Training episodes (the policy samples its actions) that ended in each stretch of "
+                 f"{PPO_STRETCH} rollouts.", formats=["", "d", ".2f", ".2f"])
+
+
+def ppo_curve() -> Table:
+    """docs/results.md, PPO's learning curve: ``baselines/ppo_comehere.py`` (250k steps)."""
+    import csv
+
+    with (ppo_run() / "ppo_curve.csv").open() as fh:
+        return ppo_curve_table(list(csv.DictReader(fh)))
+
+
+def ppo_evaluation() -> Table:
+    """docs/results.md, PPO's final evaluation: the same run's ``ppo_summary.json``."""
+    return ppo_evaluation_table(json.loads((ppo_run() / "ppo_summary.json").read_text()))
+
+
+def ppo_evaluation_table(summary: dict[str, Any]) -> Table:
+    """The final evaluation of a PPO run's summary as a table."""
+    evaluation = summary["evaluation"]
+    names = {"ppo_greedy": "PPO, greedy (mean action)", "ppo_sampled": "PPO, sampled", "random": "random"}
+    first, last = evaluation["seeds"]
+    rows = [[label, evaluation[key]["success_rate"], evaluation[key]["mean_return"], evaluation[key]["mean_steps"]]
+            for key, label in names.items()]
+    errors = [[None, _rate_stderr(r[1], last - first + 1), None, None] for r in rows]
+    return Table(["policy", "success", "mean return", "mean steps"], rows, errors, seeds=f"{first}-{last}",
+                 note=f"Training took {summary['train_wall_s']:,.0f} s of wall time.",
+                 formats=["", ".3f", ".2f", ".1f"])
+
+
 def _typed(name: str, doc: str, line: str, command: str = "") -> Figure:
     """A table typed in ``doc`` whose run kept no file and that no one command measures
     again: adopted from the doc at the commit that added it. ``command``: the command the doc
@@ -690,10 +755,10 @@ _WIDE_TRAIN = "python -m baselines.vla.train --data runs/table-full-p25/data/<ta
     "--threads 1 --channels 32,64,128,256"
 FIGURES.update({f.name: f for f in (
     _typed("where-is-paper-seeds", "docs/results.md", "| VLA-Sep 10K of the default task (ours), asked these |"),
-    _typed("ppo-curve", "docs/results.md", "| 196k-205k |",
-           "python baselines/ppo_comehere.py --timesteps 250000 --out out/ppo_comehere"),
-    _typed("ppo-evaluation", "docs/results.md", "| PPO, greedy (mean action) |",
-           "python baselines/ppo_comehere.py --timesteps 250000 --out out/ppo_comehere"),
+    Figure("ppo-curve", "python " + " ".join(PPO_COMMAND), ppo_curve, cheap=False,
+           typed=("docs/results.md", "| 196k-205k |")),
+    Figure("ppo-evaluation", "python " + " ".join(PPO_COMMAND), ppo_evaluation, cheap=False,
+           typed=("docs/results.md", "| PPO, greedy (mean action) |")),
     _typed("ablation-wide-encoder", "docs/results.md", "| Come Here, one room | 0.72 | 0.78 |",
            _WIDE_TRAIN + ", evaluated on reset seeds 0-299"),
     _typed("ablation-epochs16", "docs/results.md", "| 16 epochs, seeds 0-99 / 0-299 |",

@@ -30,6 +30,15 @@ def test_short_run_writes_the_curve_and_the_summary(tmp_path, capsys):
     for name in ("ppo_greedy", "ppo_sampled", "random"):
         assert 0.0 <= summary["evaluation"][name]["success_rate"] <= 1.0
     assert '"evaluation"' in capsys.readouterr().out
+    # The docs' PPO figures are made from these two files.
+    from baselines.figures import ppo_curve_table, ppo_evaluation_table
+
+    curve = ppo_curve_table(rows)
+    assert curve.rows[0][:2] == ["random policy, same envs and seeds", 4]
+    assert sum(row[1] for row in curve.rows[1:]) == sum(int(r["episodes"]) for r in ppo)
+    evaluation = ppo_evaluation_table(summary)
+    assert [row[1] for row in evaluation.rows] == [summary["evaluation"][k]["success_rate"]
+                                                   for k in ("ppo_greedy", "ppo_sampled", "random")]
 
 
 def test_same_seed_same_curve(tmp_path):
