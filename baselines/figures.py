@@ -21,6 +21,12 @@ committed file (a figure gone stale).
 ``--scale small`` rerun them. The others (timings, long training runs) are rerun by
 ``--scale full`` only, and each table says beside it the commit it was measured at.
 
+A figure *made from* other data files measures nothing (a table run's models and phases
+from the ``results.json`` it kept, two runs' rows side by side, the paper beside us): it is
+cheap, and rerun by the default tests like the seeded ones. A number that the prose quotes
+from a figure sits between markers that name it (:data:`VALUE`), and is rewritten and
+checked with the tables.
+
 A long run measured before its table was a figure is *adopted* (``python -m baselines.refresh
 --adopt NAME --commit SHA``, nothing run): from the ``results.json`` the run kept in
 ``docs/data/<folder>/``, or, when the run kept no file, from the table as typed in the doc at
@@ -485,8 +491,8 @@ def run_folder(folder: str) -> Path:
 
 def rerun_table(folder: str, args: Sequence[str], out_folder: str | None = None) -> Table:
     """Run ``reproduce_table.py`` with ``args`` into ``runs/<out_folder>`` (default: ``folder``;
-    the run resumes what is there), keep its outputs in ``docs/data/<folder>/`` and give its
-    table."""
+    the run resumes what is there), keep its outputs in ``docs/data/<folder>/`` (its chart as
+    ``docs/images/<folder>.png``) and give its table."""
     import shutil
 
     out = ROOT / "runs" / (out_folder or folder)
@@ -497,6 +503,8 @@ def rerun_table(folder: str, args: Sequence[str], out_folder: str | None = None)
     for name in ("results.json", "table.md", "table.csv"):
         if (out / name).is_file():
             shutil.copyfile(out / name, keep / name)
+    if (out / "table.png").is_file():  # the chart the doc shows beside the table
+        shutil.copyfile(out / "table.png", ROOT / "docs" / "images" / f"{folder}.png")
     return vla_table(json.loads((keep / "results.json").read_text()))
 
 
