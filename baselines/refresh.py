@@ -14,7 +14,7 @@ from the data files, and the figures that moved by more than their standard erro
 printed (old -> new). Tables adopted from the docs' history are never measured again
 here. Figures made from other data files (``<table>-run`` from a table run's kept
 ``results.json``, the side-by-side tables, the paper beside us) measure nothing and are
-cheap: the default run remakes them after a table run. Numbers quoted in the prose
+cheap: every run that measures something remakes them after it. Numbers quoted in the prose
 (``<!-- value: FIGURE | ROW | COLUMN -->``) are rewritten and checked with the tables.
 """
 
@@ -30,6 +30,7 @@ if __package__ in (None, ""):  # run as a script: make `baselines` importable
 
 from baselines.figures import (  # noqa: E402
     FIGURES,
+    Figure,
     FigureError,
     adopt,
     data_path,
@@ -42,6 +43,13 @@ from baselines.figures import (  # noqa: E402
     stale_blocks,
     write,
 )
+
+
+def derived_from_data(chosen: list[Figure]) -> list[Figure]:
+    """The figures made from data files (nothing measured) that are not in ``chosen``: made
+    again after it, so that a table run's details and the tables beside it follow its data."""
+    return [f for f in FIGURES.values() if f.produce is not None and f.cheap and f not in chosen
+            and data_path(f.name).is_file() and "made_from" in load(f.name)]
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -74,6 +82,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             names = [n.strip() for n in args.only.split(",") if n.strip()]
             chosen = [figure(n) for n in names] if names else \
                 [f for f in FIGURES.values() if f.produce is not None and (f.cheap or args.scale == "full")]
+            chosen += derived_from_data(chosen)
             changes: list[str] = []
             origin = provenance()  # before this run writes a data file
             for fig in chosen:

@@ -162,3 +162,12 @@ def test_speed_figures_read_their_benchmarks_reports(producer, args):
     assert table.rows and all(len(row) == len(table.columns) for row in table.rows)
     assert all(isinstance(v, int | float) and v > 0 for v in table.rows[0][1:] if v is not None)
     assert "Load average" in table.note
+
+
+def test_a_run_that_measures_remakes_the_figures_made_from_data():
+    """After a table run, its details and the tables made beside it are made again."""
+    from baselines.refresh import derived_from_data
+
+    derived = {f.name for f in derived_from_data([FIGURES["table-full"]])}
+    assert {"table-full-run", "recovery-against-clean", "paper-beside-ours"} <= derived
+    assert not derived & {"table-full", "random-policy", "expert-success"}  # measured, not made from data
