@@ -602,6 +602,24 @@ FIGURES.update({f.name: f for f in (
 )})
 
 
+SMALL_TABLE_ARGS = ("--scale", "small")
+
+
+def small_table() -> Table:
+    """docs/results.md, scale ``small``: ``reproduce_table.py --scale small`` end to end (data,
+    seven trainings, evaluation) in a scratch folder; deterministic, so the default tests rerun it."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as scratch:
+        subprocess.run([sys.executable, str(ROOT / "baselines" / "reproduce_table.py"), *SMALL_TABLE_ARGS,
+                        "--out", scratch], check=True, cwd=ROOT, capture_output=True)
+        return vla_table(json.loads((Path(scratch) / "results.json").read_text()))
+
+
+FIGURES["table-small"] = Figure("table-small", "python baselines/reproduce_table.py --scale small --out "
+                                "runs/table_small", small_table, cheap=True)
+
+
 #: The phases of a ``reproduce_table.py`` run, in the order it runs them, as ``results.json``
 #: names them in ``wall_seconds``.
 PHASES = ("data", "training", "dagger_data", "dagger_training", "evaluation")
