@@ -941,13 +941,7 @@ def throughput_table(report: dict[str, Any]) -> Table:
 
 def throughput() -> Table:
     """docs/performance.md, "Training-loop throughput": ``benchmarks/throughput.py``."""
-    import tempfile
-
-    with tempfile.TemporaryDirectory() as scratch:
-        out = Path(scratch) / "throughput.json"
-        subprocess.run([sys.executable, str(ROOT / "benchmarks" / "throughput.py"), *THROUGHPUT_ARGS,
-                        "--json", str(out)], check=True, cwd=ROOT)
-        return throughput_table(json.loads(out.read_text()))
+    return throughput_table(benchmark("throughput.py", THROUGHPUT_ARGS))
 
 
 FIGURES["throughput"] = Figure("throughput", "python benchmarks/throughput.py " + " ".join(THROUGHPUT_ARGS),
