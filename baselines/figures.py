@@ -1051,6 +1051,50 @@ FIGURES.update({f.name: f for f in (
 )})
 
 
+# -- what --scale full measures -------------------------------------------------------------------
+FULL_SCALE_FIGURE = "full-scale-cost"
+
+
+def full_scale_cost() -> Table:
+    """Every figure that ``python -m baselines.refresh --scale full`` measures (not those made
+    from other data files, nor the adopted typed tables): the commit it was last measured at,
+    when, and its run's wall time; the last row sums them, a run that measured two figures
+    (the same command) counted once (nothing measured)."""
+    rows: list[list[Any]] = []
+    commands: set[str] = set()
+    total, unknown = 0.0, 0
+    for name, fig in FIGURES.items():
+        if fig.produce is None or name == FULL_SCALE_FIGURE:
+            continue
+        data = load(name)
+        if data.get("made_from"):
+            continue
+        commit = data["commit"][:7] + (" with uncommitted changes" if data.get("dirty") else "")
+        if data.get("typed"):  # adopted from a doc: its run's time was not kept
+            rows.append([f"`{name}`", "no", f"{commit} (typed)", data["date"], None, None])
+            unknown += 1
+            continue
+        wall = float(data["wall_seconds"])
+        if data["command"] not in commands:
+            commands.add(data["command"])
+            total += wall
+        rows.append([f"`{name}`", "yes" if fig.cheap else "no", commit, data["date"], wall, wall / 3600])
+    label = f"all {len(rows)} ({len(commands)} runs" + (f"; without the {unknown} typed)" if unknown else ")")
+    rows.append([label, "", "", "", total, total / 3600])
+    note = ("Each wall time is its figure's own run as it was measured, on the machine its figure names; a run "
+            "that started from another run's data or models (its phases are in its `-run` table) takes longer "
+            "from nothing. `--scale full` runs them one after another in this order, the table runs that "
+            "continue another run after it. A table still typed in a doc (adopted, see its block) kept no wall "
+            "time; `--scale full` measures it too.")
+    return Table(["figure", "cheap", "measured at", "date", "wall time (s)", "hours"], rows, note=note,
+                 formats=["", "", "", "", ".0f", ".2f"],
+                 made_from="the data files of the figures it lists (`docs/data/figures/<figure>.json`)")
+
+
+FIGURES[FULL_SCALE_FIGURE] = Figure(FULL_SCALE_FIGURE, f"python -m baselines.refresh --only {FULL_SCALE_FIGURE}",
+                                    full_scale_cost, cheap=True)
+
+
 def figure(name: str) -> Figure:
     try:
         return FIGURES[name]

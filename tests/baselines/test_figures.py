@@ -169,3 +169,18 @@ def test_a_run_that_measures_remakes_the_figures_made_from_data():
     derived = {f.name for f in derived_from_data([FIGURES["table-full"]])}
     assert {"table-full-run", "recovery-against-clean", "paper-beside-ours"} <= derived
     assert not derived & {"table-full", "random-policy", "expert-success"}  # measured, not made from data
+
+
+def test_the_full_scale_cost_lists_what_scale_full_measures():
+    """One row per figure that `--scale full` measures and no other; one run measuring two
+    figures (the PPO curve and its evaluation) is counted once in the total."""
+    table = FIGURES["full-scale-cost"].produce()
+    *rows, total = table.rows
+    measured = [n for n, f in FIGURES.items() if f.produce is not None and n != "full-scale-cost"
+                and not load(n).get("made_from")]
+    assert [row[0] for row in rows] == [f"`{n}`" for n in measured]
+    times = {row[0]: row[4] for row in rows}
+    assert times["`ppo-curve`"] == times["`ppo-evaluation`"] == load("ppo-curve")["wall_seconds"]
+    once = sum(t for name, t in times.items() if t is not None and name != "`ppo-evaluation`")
+    assert total[4] == pytest.approx(once)
+    assert all(times[f"`{n}`"] is None for n in measured if load(n).get("typed"))
