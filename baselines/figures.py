@@ -1051,6 +1051,53 @@ FIGURES.update({f.name: f for f in (
 )})
 
 
+# -- the DAgger round over more seeds -------------------------------------------------------------
+DAGGER_FIGURE = "table-full-p25-scan-dagger"
+DAGGER_EPISODES = 300
+
+
+def dagger_more_seeds() -> Table:
+    """docs/results.md, "One DAgger round": the Sep 10K models of the DAgger run and the
+    DAgger models trained from them, each on the task it was trained for, over reset seeds
+    0-299 (greedy decoding). Reads the models that ``table-full-p25-scan-dagger`` left in its
+    run folder, so it is measured after that figure."""
+    from baselines.reproduce_table import (
+        COLUMNS,
+        EVAL_TASKS,
+        SCALES,
+        TRAIN_TASKS,
+        evaluate_rows,
+        table_rows,
+    )
+    from baselines.vla.evaluate import success_rate
+
+    out = figure(DAGGER_FIGURE).command.split("--out ")[1].split()[0]
+    root, scale = ROOT / out, SCALES["full"]
+    large = f"VLA-Sep {scale.large // 1000}K (ours)"
+    wanted = (large, f"VLA-Sep {scale.large // 1000}K + DAgger (ours)")
+    rows = [(label, {t: spec for t, spec in specs.items() if t in TRAIN_TASKS})
+            for label, specs in table_rows(root, scale, dagger=True) if label in wanted]
+    missing = sorted({spec for _, specs in rows for spec in specs.values() if not Path(spec).is_file()})
+    if missing:
+        raise FigureError(f"no model {_shown(Path(missing[0]))}: run `python -m baselines.refresh --only "
+                          f"{DAGGER_FIGURE}` first (its models are what this figure evaluates)")
+    results = evaluate_rows(rows, scale, DAGGER_EPISODES, 0, workers=os.cpu_count() or 1)
+    table_rows_, errors = [], []
+    for label, by_task in results.items():
+        rates = [success_rate(by_task[t]) for t in TRAIN_TASKS]
+        table_rows_.append([label, *rates])
+        errors.append([None, *(_rate_stderr(r, DAGGER_EPISODES) for r in rates)])
+    columns = ["Model", *(COLUMNS[EVAL_TASKS.index(t)] for t in TRAIN_TASKS)]
+    return Table(columns, table_rows_, errors, seeds=f"0-{DAGGER_EPISODES - 1} (evaluation)",
+                 note=f"Success rates over {DAGGER_EPISODES} seeded episodes per task, greedy decoding; a standard "
+                      f"error is about 0.03. Each model on the task it was trained for.",
+                 formats=["", ".3f", ".3f", ".3f"])
+
+
+FIGURES["dagger-more-seeds"] = Figure(
+    "dagger-more-seeds", "python -m baselines.refresh --only dagger-more-seeds", dagger_more_seeds, cheap=False)
+
+
 # -- what --scale full measures -------------------------------------------------------------------
 FULL_SCALE_FIGURE = "full-scale-cost"
 

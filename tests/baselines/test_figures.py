@@ -184,3 +184,11 @@ def test_the_full_scale_cost_lists_what_scale_full_measures():
     once = sum(t for name, t in times.items() if t is not None and name != "`ppo-evaluation`")
     assert total[4] == pytest.approx(once)
     assert all(times[f"`{n}`"] is None for n in measured if load(n).get("typed"))
+
+
+def test_the_dagger_seeds_figure_names_the_run_it_needs(tmp_path, monkeypatch):
+    """Measured from the models the DAgger table's run left; without them, it says which run to make first."""
+    monkeypatch.setattr(figures, "ROOT", tmp_path)
+    with pytest.raises(FigureError, match="no model runs/table_full_p25_scan/models/sep10000-.*"
+                                          "--only table-full-p25-scan-dagger` first"):
+        FIGURES["dagger-more-seeds"].produce()
