@@ -575,13 +575,25 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
              "house_overlap_eval_vs_data": overlap, "wall_seconds": {k: round(v, 1) for k, v in times.items()},
              "collections": collection_summary(folders),
              **({"dagger_rounds": dagger_rounds} if dagger else {}),
-             "training": {name: {"config": runs[name].to_dict(), "metrics": metrics[name]} for name in runs},
+             "training": {name: {"config": _within(out, runs[name].to_dict()), "metrics": metrics[name]} for name in runs},
              "command": " ".join([Path(sys.argv[0]).name, *sys.argv[1:]]) if sys.argv else ""}
     ours = write_outputs(out, scale_name, scale, evaluated, extra)
     log(f"house seeds shared by evaluation and training data: {overlap}")
     log("wall time: " + ", ".join(f"{k} {v:.0f} s" for k, v in times.items()))
     print(markdown_table(ours, episodes, paper_where_is))
     return {"rates": dict(ours), "times": times, "overlap": overlap}
+
+
+def _within(out: Path, config: dict) -> dict:
+    """A training configuration as ``results.json`` keeps it: its data and model folders
+    relative to the run's folder (where they are inside it), so that the kept file names no
+    folder of the machine that ran it."""
+    def shown(path: str) -> str:
+        try:
+            return str(Path(path).relative_to(out))
+        except ValueError:
+            return path
+    return {**config, "data": [shown(d) for d in config["data"]], "out": shown(config["out"])}
 
 
 def main(argv: Sequence[str] | None = None) -> int:

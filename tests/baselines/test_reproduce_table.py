@@ -83,6 +83,10 @@ def check_outputs(out: Path, scale: str, paper_where_is: bool = False) -> dict:
         # The DAgger model learned from the demonstrations and every rollout.
         metrics = results["training"][f"sep{config.large}-{task}-dagger"]["metrics"]
         assert metrics["trajectories"] == config.large + config.dagger_rollouts
+    # Its folders are kept relative to the run's folder: the file names no folder of this machine.
+    for name, entry in results["training"].items():
+        assert entry["config"]["out"] == f"models/{name}"
+        assert all(d.startswith("data/") and (out / d).is_dir() for d in entry["config"]["data"]), name
     return results
 
 
