@@ -332,6 +332,50 @@ def moved(old: dict[str, Any], new: dict[str, Any]) -> list[str]:
     return out
 
 
+# -- which figures hold on the current code -------------------------------------------------------
+#: The code whose changes can move a measured figure: the package, the baselines, the
+#: benchmarks and the dependencies' pins. This module and ``refresh.py`` are left out: they lay
+#: the tables out, and a change to their layout moves no number.
+MEASURED_CODE = ("legent_gym", "baselines", "benchmarks", "pyproject.toml")
+NOT_MEASURED_CODE = ("baselines/figures.py", "baselines/refresh.py")
+
+
+def code_changed_since(commit: str) -> list[str]:
+    """The files of :data:`MEASURED_CODE` that differ between ``commit`` and ``HEAD``
+    (committed changes only)."""
+    try:
+        done = subprocess.run(["git", "diff", "--name-only", commit, "HEAD", "--", *MEASURED_CODE,
+                               *(f":(exclude){p}" for p in NOT_MEASURED_CODE)],
+                              cwd=ROOT, capture_output=True, text=True, timeout=30)
+    except (OSError, subprocess.SubprocessError) as err:
+        raise FigureError(f"cannot run git to compare commit {commit[:7]} with HEAD: {err}") from None
+    if done.returncode != 0:
+        raise FigureError(f"commit {commit[:7]} is not in this clone's history (a shallow clone?): "
+                          f"{done.stderr.strip().splitlines()[-1] if done.stderr.strip() else 'git diff failed'}")
+    return done.stdout.split()
+
+
+def outdated() -> list[tuple[str, str, list[str]]]:
+    """(figure, the commit it was measured at, the files of :data:`MEASURED_CODE` changed since)
+    for every figure that one command measures and whose code changed after its measurement:
+    what ``python -m baselines.refresh --scale full --outdated`` measures again, so that a full
+    refresh can be done in parts. Figures made from other data files follow their sources;
+    tables typed in a doc that no command measures are left out."""
+    found = []
+    for name, fig in FIGURES.items():
+        if fig.produce is None or not data_path(name).is_file():
+            continue
+        data = load(name)
+        if data.get("made_from"):
+            continue
+        changed = code_changed_since(data["commit"])
+        if data.get("dirty"):  # what the tree held then is not known
+            changed.append("(uncommitted changes when it was measured)")
+        if changed:
+            found.append((name, data["commit"], changed))
+    return found
+
+
 # -- the figures ----------------------------------------------------------------------------------
 def _rate_stderr(p: float, n: int) -> float:
     return math.sqrt(max(p * (1.0 - p), 0.0) / n)

@@ -2,6 +2,8 @@
 
     python -m baselines.refresh                        # the cheap figures (= --scale small)
     python -m baselines.refresh --scale full           # every figure that one command measures
+    python -m baselines.refresh --list-outdated        # the figures whose code changed since they were measured
+    python -m baselines.refresh --scale full --outdated   # measure only those (a full refresh in parts)
     python -m baselines.refresh --only random-policy   # these figures
     python -m baselines.refresh --tables               # only rewrite the tables from the data files
     python -m baselines.refresh --check                # exit 1 if a table differs from its data file
@@ -38,6 +40,7 @@ from baselines.figures import (  # noqa: E402
     load,
     measure,
     moved,
+    outdated,
     provenance,
     refresh_docs,
     stale_blocks,
@@ -59,6 +62,11 @@ def main(argv: Sequence[str] | None = None) -> int:
                         help="small: the cheap (deterministic, quick) figures; full: every figure that one command "
                         "measures (not the adopted typed tables)")
     parser.add_argument("--only", default="", help=f"comma-separated figures of: {', '.join(FIGURES)}")
+    parser.add_argument("--outdated", action="store_true", help="of the figures chosen (--scale or --only), "
+                        "measure only those whose code (legent_gym/, baselines/, benchmarks/, pyproject.toml) "
+                        "changed after the commit they were measured at")
+    parser.add_argument("--list-outdated", action="store_true", help="measure nothing; list the figures that "
+                        "--scale full --outdated would measure, with the files changed since each was measured")
     parser.add_argument("--tables", action="store_true", help="measure nothing; rewrite the tables from the data")
     parser.add_argument("--check", action="store_true", help="measure nothing; exit 1 if a table is not its data")
     parser.add_argument("--adopt", metavar="NAME", help="measure nothing; take the results.json that a table run "
@@ -73,6 +81,14 @@ def main(argv: Sequence[str] | None = None) -> int:
                 raise FigureError("--adopt needs --commit (the commit the run was made at)")
             print(f"wrote {write(adopt(args.adopt, args.commit, args.commit_note))}")
             args.tables = True
+        elif args.list_outdated:
+            found = outdated()
+            for name, commit, changed in found:
+                print(f"{name} (measured at {commit[:7]}): {len(changed)} file(s) changed since: "
+                      + ", ".join(changed))
+            if not found:
+                print("every figure that one command measures was measured on the current code")
+            return 0
         elif args.check:
             stale = stale_blocks()
             for line in stale:
@@ -82,6 +98,9 @@ def main(argv: Sequence[str] | None = None) -> int:
             names = [n.strip() for n in args.only.split(",") if n.strip()]
             chosen = [figure(n) for n in names] if names else \
                 [f for f in FIGURES.values() if f.produce is not None and (f.cheap or args.scale == "full")]
+            if args.outdated:
+                stale = {name for name, _, _ in outdated()}
+                chosen = [f for f in chosen if f.name in stale]
             chosen += derived_from_data(chosen)
             changes: list[str] = []
             origin = provenance()  # before this run writes a data file

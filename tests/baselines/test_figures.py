@@ -87,6 +87,41 @@ def test_moved_reports_changes_beyond_the_standard_error():
     assert figures.moved(old, new) == ["f: b / rate: 0.3 -> 0.2 (standard error 0.050)"]
 
 
+def test_the_code_changed_since_a_figure_was_measured_is_named(tmp_path, monkeypatch):
+    """`--list-outdated` names a figure measured before a change to the package, with the files
+    changed; one measured at HEAD is current; a commit the clone does not hold is an error
+    that names it."""
+    assert figures.code_changed_since("HEAD") == []
+    # bd825a4 changed legent_gym/world/render.py: a figure measured at its parent is outdated.
+    assert "legent_gym/world/render.py" in figures.code_changed_since("bd825a4^")
+    with pytest.raises(FigureError, match="commit 0000000 is not in this clone's history"):
+        figures.code_changed_since("0" * 40)
+
+    monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
+    head = figures._git("rev-parse", "HEAD")
+    old = figures._git("rev-parse", "bd825a4^")
+    for name, commit in (("random-policy", head), ("expert-success", old)):
+        (tmp_path / f"{name}.json").write_text(json.dumps({"format": figures.FORMAT_VERSION, "name": name,
+                                                           "commit": commit, "dirty": False}))
+    found = figures.outdated()
+    assert [(name, commit) for name, commit, _ in found] == [("expert-success", old)]
+    assert "legent_gym/world/render.py" in found[0][2]
+
+
+def test_list_outdated_prints_each_figure_and_its_changes(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
+    old = figures._git("rev-parse", "bd825a4^")
+    (tmp_path / "expert-success.json").write_text(json.dumps({"format": figures.FORMAT_VERSION, "name":
+                                                              "expert-success", "commit": old, "dirty": True}))
+    assert refresh_main(["--list-outdated"]) == 0
+    line = capsys.readouterr().out.strip()
+    assert line.startswith(f"expert-success (measured at {old[:7]}): ") and "legent_gym/world/render.py" in line
+    assert "(uncommitted changes when it was measured)" in line
+    (tmp_path / "expert-success.json").unlink()
+    assert refresh_main(["--list-outdated"]) == 0
+    assert "measured on the current code" in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("name", [n for n, f in FIGURES.items() if f.cheap])
 def test_cheap_figures_reproduce(name):
     """A committed cheap figure is what the code measures now (else: python -m baselines.refresh)."""
@@ -192,3 +227,19 @@ def test_the_dagger_seeds_figure_names_the_run_it_needs(tmp_path, monkeypatch):
     with pytest.raises(FigureError, match="no model runs/table_full_p25_scan/models/sep10000-.*"
                                           "--only table-full-p25-scan-dagger` first"):
         FIGURES["dagger-more-seeds"].produce()
+
+
+def test_outdated_measures_only_the_figures_whose_code_changed(tmp_path, monkeypatch, capsys):
+    """`--only A,B --outdated` measures B (measured before a change) and not A (measured at HEAD)."""
+    import baselines.refresh as refresh
+
+    monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
+    monkeypatch.setattr(refresh, "refresh_docs", lambda: [])  # the docs name figures this folder lacks
+    monkeypatch.setattr(refresh, "measure", lambda fig, origin: {**load(fig.name), "wall_seconds": 0.0})
+    for name, commit in (("random-policy", "HEAD"), ("expert-success", "bd825a4^")):
+        (tmp_path / f"{name}.json").write_text(json.dumps({
+            "format": figures.FORMAT_VERSION, "name": name, "commit": figures._git("rev-parse", commit),
+            "dirty": False, "columns": ["a"], "rows": [[1]]}))
+    assert refresh_main(["--only", "random-policy,expert-success", "--outdated"]) == 0
+    err = capsys.readouterr().err
+    assert "measuring expert-success" in err and "measuring random-policy" not in err
