@@ -124,18 +124,23 @@ def _git(*args: str) -> str:
 
 
 def machine() -> dict[str, Any]:
-    """The machine a figure was measured on."""
-    cpu = platform.processor() or platform.machine()
+    """The machine a figure was measured on, with the widest vector instruction set its
+    processor offers (torch, MKL and oneDNN pick their kernels by it, so a trained model's
+    numbers can differ between processors: docs/results.md, "Protocol")."""
+    fields: dict[str, str] = {}  # the first processor's
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
+            key, _, value = line.partition(":")
+            fields.setdefault(key.strip(), value.strip())
     except OSError:
         pass
+    cpu = fields.get("model name") or platform.processor() or platform.machine()
+    flags = set(fields.get("flags", "").split())
+    vector = next((name for flag, name in (("avx512f", "AVX-512"), ("avx2", "AVX2"), ("avx", "AVX")) if flag in flags),
+                  None)
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return {"cpu": cpu, "cores": cores, "system": f"{platform.system()} {platform.release()}",
-            "python": platform.python_version()}
+    return {"cpu": cpu, "cores": cores, **({"vector": vector} if vector else {}),
+            "system": f"{platform.system()} {platform.release()}", "python": platform.python_version()}
 
 
 def provenance() -> dict[str, Any]:
@@ -234,7 +239,8 @@ def render(data: dict[str, Any]) -> str:
         where = f"Measured by `{data['command']}` at commit {commit} on {data['date']}"
         if data.get("machine"):
             cores = data["machine"]["cores"]
-            where += f", {cores} core{'' if cores == 1 else 's'} ({data['machine']['cpu']})"
+            vector = f", {data['machine']['vector']}" if data["machine"].get("vector") else ""
+            where += f", {cores} core{'' if cores == 1 else 's'} ({data['machine']['cpu']}{vector})"
         if data.get("wall_seconds") is not None:
             where += f", {data['wall_seconds']:g} s"
     if data.get("seeds"):
@@ -622,14 +628,13 @@ def adopt(name: str, commit: str, note: str = "") -> dict[str, Any]:
             "date": _git("show", "-s", "--format=%cd", "--date=format:%Y-%m-%d %H:%M UTC", full)}
 
 
-def _table_figure(name: str, folder: str, args: str, typed: tuple[str, str] | None = None,
-                  continues: str | None = None) -> Figure:
+def _table_figure(name: str, folder: str, args: str, continues: str | None = None) -> Figure:
     """A ``reproduce_table.py`` run kept in ``docs/data/<folder>/``. ``continues``: the output
     folder of the run it adds to (``--dagger`` adds DAgger rows to a run, ``--paper-where-is``
     retrains the Where Is models of one), whose data and models it resumes from."""
     out = continues or folder
     return Figure(name, f"python baselines/reproduce_table.py {args} --out runs/{out}",
-                  lambda: rerun_table(folder, args.split(), out), cheap=False, folder=folder, typed=typed)
+                  lambda: rerun_table(folder, args.split(), out), cheap=False, folder=folder)
 
 
 FIGURES.update({f.name: f for f in (
@@ -642,9 +647,7 @@ FIGURES.update({f.name: f for f in (
     _table_figure("table-full", "table_full", "--scale full"),
     _table_figure("table-full-p25-scan-dagger", "table_full_p25_scan_dagger",
                   "--scale full --perturb 0.25 --scan --dagger", continues="table_full_p25_scan"),
-    # runs that kept no results.json: their tables as typed in docs/results.md (see adopt)
-    _table_figure("table-large", "table_large", "--scale large",
-                  typed=("docs/results.md", "| VLA-Sep 3K (ours) |")),
+    _table_figure("table-large", "table_large", "--scale large"),
     _table_figure("table-medium", "table_medium", "--scale medium"),
 )})
 

@@ -4,6 +4,7 @@ cheap figures still measure what the committed files say."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import pytest
 
@@ -135,6 +136,17 @@ def test_cheap_figures_reproduce(name):
 def test_render_says_where_the_figure_comes_from():
     text = render(load("random-policy"))
     assert "python -m baselines.refresh --only random-policy" in text and "docs/data/figures/random-policy.json" in text
+    data = {**load("random-policy"), "machine": {"cpu": "Some CPU", "cores": 2, "vector": "AVX2"}}
+    assert "2 cores (Some CPU, AVX2)" in render(data)  # the instruction set that picked torch's kernels
+
+
+def test_the_machine_names_its_vector_instruction_set():
+    described = figures.machine()
+    assert described["cores"] >= 1 and described["cpu"]
+    lines = Path("/proc/cpuinfo").read_text().splitlines()
+    flags = next((line for line in lines if line.startswith("flags")), "").split()
+    assert described.get("vector") == ("AVX-512" if "avx512f" in flags else "AVX2" if "avx2" in flags
+                                       else "AVX" if "avx" in flags else None)
 
 
 @pytest.mark.parametrize("name", [n for n, f in FIGURES.items() if f.typed is not None and load(n).get("typed")])
