@@ -4,6 +4,7 @@ a killed Ray worker and a killed driver, and a missing Ray is one line naming th
 
 from __future__ import annotations
 
+import fcntl
 import importlib.util
 import json
 import os
@@ -35,7 +36,17 @@ needs_ray = pytest.mark.skipif(not HAS_RAY, reason='Ray is not installed (the "s
 
 
 @pytest.fixture(scope="module")
-def ray_address():
+def one_cluster_at_a_time(tmp_path_factory):
+    """Held while this process runs a Ray cluster: pytest-xdist may give this module's tests to
+    both workers, and two clusters of 2 CPUs each would share the 2-core machine. The lock file
+    is in the run's temporary root, which the workers share."""
+    with (tmp_path_factory.getbasetemp().parent / "ray-cluster.lock").open("w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        yield
+
+
+@pytest.fixture(scope="module")
+def ray_address(one_cluster_at_a_time):
     """A Ray cluster on this machine for the module's tests: loopback only, 2 CPUs, no
     dashboard. Its address lets drivers in other processes join it."""
     # Read when ray is imported: the node binds and advertises 127.0.0.1 only.
@@ -230,7 +241,7 @@ def test_evaluation_through_ray_equals_in_process(ray_address, capsys):
 
 
 @needs_ray
-def test_a_ray_started_by_collect_serves_the_loopback_interface_only(tmp_path):
+def test_a_ray_started_by_collect_serves_the_loopback_interface_only(one_cluster_at_a_time, tmp_path):
     """Without --ray-address, collect starts a Ray of --workers CPUs bound to 127.0.0.1."""
     script = ("import sys; from legent_gym.cli import main; code = main(sys.argv[1:]); import ray; "
               "print(ray.get_runtime_context().gcs_address, ray.cluster_resources()['CPU']); sys.exit(code)")
