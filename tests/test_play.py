@@ -220,6 +220,50 @@ def say(page, text: str) -> None:
     page.keyboard.press("Enter")
 
 
+def test_a_reloaded_page_gets_the_session_its_old_tab_is_still_closing():
+    """A page that reconnects while its old session is still closing its env (a reload) waits
+    for that session to end and plays; it is not told the server is busy."""
+    import asyncio
+    import threading
+
+    from legent_gym.play.server import PlayServer
+    from legent_gym.play.session import PlaySession
+
+    closed: list[float] = []
+
+    class SlowToClose(PlaySession):
+        def close(self) -> None:
+            time.sleep(1.5)  # what an env under load can take
+            super().close()
+            closed.append(time.monotonic())
+
+    server = PlayServer(lambda: SlowToClose("Legent/ComeHere-OneRoom-v0", size=(160, 120)))
+    loop = asyncio.new_event_loop()
+    started = threading.Event()
+
+    def serve() -> None:
+        asyncio.set_event_loop(loop)
+        loop.run_until_complete(server.start())
+        started.set()
+        loop.run_forever()
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    assert started.wait(60)
+    try:
+        with ws_client.connect(ws_url(server.url), open_timeout=30) as ws:
+            assert receive_json(ws, "hello", timeout=60)["role"] == "user"
+        left = time.monotonic()
+        with ws_client.connect(ws_url(server.url), open_timeout=30) as ws:
+            hello = receive_json(ws, timeout=60)
+            assert hello["type"] == "hello", hello  # not {"type": "error", "fatal": true, ...busy}
+            assert closed and closed[0] > left  # it did wait for the old session
+    finally:
+        asyncio.run_coroutine_threadsafe(server.stop(), loop).result(timeout=60)
+        loop.call_soon_threadsafe(loop.stop)
+        thread.join(timeout=10)
+
+
 @needs_browser
 def test_page_as_user_keys_map_and_expert_finishes_come_here(browser):
     with play_server("Legent/ComeHere-OneRoom-v0", "--size", SMALL, "--seed", "3") as url, \

@@ -50,6 +50,9 @@ MAX_MESSAGE = 64 * 1024
 MAX_FRAME = 32 * 1024 * 1024
 #: Frames sent and not yet acknowledged by the page.
 FRAMES_IN_FLIGHT = 2
+#: Seconds a connection waits for a session to free before it is told the server is busy: a
+#: reloaded page connects again while its old session is still closing its env.
+SESSION_GRACE = 5.0
 STATIC_FILES = {"index.html": "text/html; charset=utf-8", "play.js": "text/javascript; charset=utf-8",
                 "play.css": "text/css; charset=utf-8"}
 CSP = ("default-src 'self'; img-src 'self' data: blob:; connect-src 'self' ws: wss:; "
@@ -91,7 +94,7 @@ class PlayServer:
         self.factory, self.host, self.port = factory, host, int(port)
         self.max_sessions, self.fps, self.tick = int(sessions), float(fps), float(tick)
         self.token = token or secrets.token_urlsafe(18)
-        self.active = 0
+        self.free = asyncio.Semaphore(self.max_sessions)  # one unit per session that may start
         self.executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="legent-play-env")
         self.server: Server | None = None
 
@@ -144,13 +147,14 @@ class PlayServer:
 
     # -- the WebSocket session ------------------------------------------------------------------
     async def _session(self, ws: ServerConnection) -> None:
-        if self.active >= self.max_sessions:
+        try:
+            await asyncio.wait_for(self.free.acquire(), SESSION_GRACE)
+        except TimeoutError:
             await _send_json(ws, {"type": "error", "fatal": True,
                                   "message": f"this server plays {self.max_sessions} session(s) at a time and "
                                              "all are taken (close the other tab, or start it with --sessions N)"})
             await ws.close(1013, "busy")
             return
-        self.active += 1
         session: PlaySession | None = None
         try:
             try:
@@ -163,7 +167,7 @@ class PlayServer:
             if session is not None:
                 with contextlib.suppress(Exception):
                     await self.run(session.close)
-            self.active -= 1
+            self.free.release()
 
     async def _play(self, ws: ServerConnection, session: PlaySession) -> None:
         link = _Link(ws, session, self)
