@@ -150,15 +150,12 @@ def ray_results(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int,
     ray = connect_ray(address, workers)
     task = _task(ray)
     setup = ray.put((uuid.uuid4().hex, fn, initializer, initargs))
-    pending: deque = deque()
-    try:
-        yield from in_call_order(calls, ahead * workers, lambda call: task.remote(setup, call),
-                                 lambda waiting: _wait_for_first(ray, waiting), lambda ref: _get(ray, ref), pending)
-    finally:
-        # Results nobody will read: a task not started is dropped, a running one is
-        # interrupted (KeyboardInterrupt in its worker, which stays for the next tasks).
-        for ref in pending:
-            ray.cancel(ref)
+    # The calls still in flight when the map ends early (at most ``ahead * workers``) are left
+    # to finish, their results unread: ray.cancel of a task whose reply is on its way aborts
+    # the driver process in Ray 2.60 (a failed check in TaskManager::CompletePendingTask).
+    # A Ray started here stops with this process, and its tasks with it.
+    yield from in_call_order(calls, ahead * workers, lambda call: task.remote(setup, call),
+                             lambda waiting: _wait_for_first(ray, waiting), lambda ref: _get(ray, ref), deque())
 
 
 def _wait_for_first(ray: Any, pending: deque) -> None:

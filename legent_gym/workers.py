@@ -72,7 +72,8 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
     happens (not after the calls before it), with its message and the worker's traceback as
     its cause. On any exception, on Ctrl-C, or when the
     consumer stops early (the generator is closed), the pending calls are cancelled and the
-    workers stopped before the exception goes on.
+    workers stopped before the exception goes on (the Ray backend leaves its calls in flight
+    to finish unread: see :func:`legent_gym.scale.ray_results`).
 
     ``backend`` (:mod:`legent_gym.scale`): ``"process"`` (the default, as above) or
     ``"ray"`` / a :class:`~legent_gym.scale.Backend` with a Ray address: the calls run as
