@@ -1178,8 +1178,9 @@ def full_scale_cost() -> Table:
     note = ("Each wall time is its figure's own run as it was measured, on the machine its figure names; a run "
             "that started from another run's data or models (its phases are in its `-run` table) takes longer "
             "from nothing. `--scale full` runs them one after another in this order, the table runs that "
-            "continue another run after it. A table still typed in a doc (adopted, see its block) kept no wall "
-            "time; `--scale full` measures it too.")
+            "continue another run after it.")
+    if unknown:
+        note += " A table still typed in a doc (adopted, see its block) kept no wall time; `--scale full` measures it too."
     return Table(["figure", "cheap", "measured at", "date", "wall time (s)", "hours"], rows, note=note,
                  formats=["", "", "", "", ".0f", ".2f"],
                  made_from="the data files of the figures it lists (`docs/data/figures/<figure>.json`)")

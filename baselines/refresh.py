@@ -32,6 +32,7 @@ if __package__ in (None, ""):  # run as a script: make `baselines` importable
 
 from baselines.figures import (  # noqa: E402
     FIGURES,
+    MEASURED_CODE,
     Figure,
     FigureError,
     adopt,
@@ -63,8 +64,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                         "measures (not the adopted typed tables)")
     parser.add_argument("--only", default="", help=f"comma-separated figures of: {', '.join(FIGURES)}")
     parser.add_argument("--outdated", action="store_true", help="of the figures chosen (--scale or --only), "
-                        "measure only those whose code (legent_gym/, baselines/, benchmarks/, pyproject.toml) "
-                        "changed after the commit they were measured at")
+                        f"measure only those whose code ({', '.join(MEASURED_CODE)}) changed after the commit "
+                        "they were measured at")
     parser.add_argument("--list-outdated", action="store_true", help="measure nothing; list the figures that "
                         "--scale full --outdated would measure, with the files changed since each was measured")
     parser.add_argument("--tables", action="store_true", help="measure nothing; rewrite the tables from the data")
