@@ -18,9 +18,11 @@ every n-th micro-batch and the gradients are averaged (DDP).
 ``state.pt`` (optimizer, scheduler, step), written every ``--save-every`` optimizer
 steps and when a run stops early (``--max-steps``); a second run of the same configuration resumes from
 it (the data order depends on the seed and the epoch only, so a resumed run takes the
-same batches). ``OUT/final/`` is the whole model (LoRA merged into it) with its processor
-and ``legent_vlm.json`` (the window, the view size, the configuration, the metrics):
-what ``--policy vlm:OUT/final`` evaluates and an inference server loads.
+same batches). ``OUT/final/`` is the whole model with its processor and ``legent_vlm.json``
+(the window, the view size, the configuration, the metrics): the base model reloaded in
+the dtype it is stored in (float32 if training ran in float32) with the trained weights
+put in (LoRA merged into it), so frozen weights are the base's exactly; what
+``--policy vlm:OUT/final`` evaluates and an inference server loads.
 """
 
 from __future__ import annotations
@@ -166,7 +168,9 @@ def train(config: FinetuneConfig, resume: bool = True, show_progress: bool = Tru
     cuda = torch.cuda.is_available()
     dtype = pick_dtype("cuda" if cuda else "cpu", config.dtype)
     bf16 = dtype == torch.bfloat16
-    accelerator = Accelerator(cpu=not cuda, mixed_precision="bf16" if bf16 else "no")
+    # bfloat16 autocast is torch's own (below), not Accelerator(mixed_precision=...): accelerate
+    # keeps that setting process-wide and refuses a second run in another dtype.
+    accelerator = Accelerator(cpu=not cuda, mixed_precision="no")
     rank, world = accelerator.process_index, accelerator.num_processes
     if config.threads is not None:
         torch.set_num_threads(config.threads)
@@ -250,7 +254,7 @@ def train(config: FinetuneConfig, resume: bool = True, show_progress: bool = Tru
                 inputs = {key: value.to(accelerator.device) for key, value in batch.items()}
                 sync = k == len(batches) - 1
                 context = accelerator.no_sync(model) if not sync else _null()
-                with context, accelerator.autocast():
+                with context, torch.autocast(accelerator.device.type, dtype=torch.bfloat16, enabled=bf16):
                     logits = model(**inputs).logits[:, :-1].float()
                     target = labels[:, 1:]
                     loss = torch.nn.functional.cross_entropy(logits.reshape(-1, logits.shape[-1]),
@@ -285,9 +289,7 @@ def train(config: FinetuneConfig, resume: bool = True, show_progress: bool = Tru
         return {**metrics, "finished": False}
     accelerator.wait_for_everyone()
     if accelerator.is_main_process:
-        final = accelerator.unwrap_model(model)
-        if config.lora:
-            final = final.merge_and_unload()
+        final = _final_model(accelerator.unwrap_model(model), source, dtype, config.lora)
         final.config.use_cache = True
         tmp = out / (FINAL + ".tmp")
         if tmp.exists():
@@ -299,6 +301,34 @@ def train(config: FinetuneConfig, resume: bool = True, show_progress: bool = Tru
         atomic_write_text(tmp / META_FILE, json.dumps(meta, indent=1))
         _replace_dir(tmp, out / FINAL)
     return {**metrics, "finished": True}
+
+
+def _final_model(trained: Any, source: str, dtype: Any, lora: bool) -> Any:
+    """The model ``OUT/final`` holds: the base model loaded afresh in the dtype it is stored
+    in (float32 if training ran in float32), with the trained weights put into it (LoRA:
+    the adapter merged into it). The weights training did not touch (a frozen vision
+    encoder) are the base's bit for bit: writing the bfloat16 training copy instead would
+    round every weight of a float32 base, and merging into it would add the adapter to
+    rounded weights."""
+    import torch
+
+    base = load_model(source, "auto")
+    if dtype == torch.float32 and base.dtype != torch.float32:
+        base = base.float()
+    if lora:
+        from peft import get_peft_model, get_peft_model_state_dict, set_peft_model_state_dict
+
+        merged = get_peft_model(base, trained.peft_config["default"])
+        loaded: Any = set_peft_model_state_dict(merged, get_peft_model_state_dict(trained))
+        if loaded.unexpected_keys:
+            raise RuntimeError(f"the adapter does not fit the base model: {loaded.unexpected_keys[:3]}")
+        return merged.merge_and_unload()
+    weights = dict(trained.named_parameters())
+    with torch.no_grad():
+        for name, param in base.named_parameters():
+            if weights[name].requires_grad:
+                param.copy_(weights[name])
+    return base
 
 
 class _null:

@@ -123,22 +123,43 @@ def test_resume_gives_the_uninterrupted_weights(setup):
         train(other, show_progress=False, max_steps=1)
 
 
-def test_lora_merges_into_a_plain_model(setup):
+@pytest.mark.parametrize("dtype", ["auto", "bf16"])
+def test_lora_merges_into_a_plain_model(setup, dtype):
+    """auto: float32 on a CPU, bfloat16 on a GPU; bf16: bfloat16 training on any device. The
+    merged model is the float32 base with the adapter added: the frozen vision encoder
+    keeps the base's weights bit for bit (not rounded to bfloat16)."""
     root, base = setup
-    config = FinetuneConfig(str(base), (str(root / "data"),), str(root / "lora"), limit=2, epochs=2, batch_size=4,
-                            grad_accum=1, lr=1e-2, lora_rank=4, lora_dropout=0.0)
+    config = FinetuneConfig(str(base), (str(root / "data"),), str(root / f"lora-{dtype}"), limit=2, epochs=2,
+                            batch_size=4, grad_accum=1, lr=1e-2, lora_rank=4, lora_dropout=0.0, dtype=dtype)
     first = train(config, resume=False, show_progress=False, max_steps=1)  # then resumed from the adapter
-    assert not first["finished"] and (root / "lora" / LAST / "adapter_config.json").is_file()
+    assert not first["finished"] and (root / f"lora-{dtype}" / LAST / "adapter_config.json").is_file()
     metrics = train(config, show_progress=False)
     assert metrics["finished"] and metrics["steps"] == 4  # 2 trajectories, 6 samples: 2 steps an epoch
     assert 0 < metrics["trainable_parameters"] < metrics["parameters"] / 2
     before = load_model(str(base)).state_dict()
-    after = load_model(str(root / "lora" / FINAL)).state_dict()  # no peft wrapper: merged
+    after = load_model(str(root / f"lora-{dtype}" / FINAL)).state_dict()  # no peft wrapper: merged
     assert before.keys() == after.keys()
+    assert {v.dtype for v in after.values()} == {torch.float32}, "written in the base's dtype"
     changed = {k for k in before if not torch.equal(before[k], after[k])}
     assert any("language_model" in k and "q_proj" in k for k in changed)
     assert not any("vision_tower" in k for k in changed), "the vision encoder stays frozen"
     assert not any("lora" in k for k in after)
+
+
+def test_full_finetuning_in_bf16_keeps_the_frozen_encoder(setup):
+    """Full fine-tuning in bfloat16 (a GPU's default, forced here on any device): the final
+    model is the float32 base with the trained weights put in; the frozen vision encoder
+    is the base's bit for bit."""
+    root, base = setup
+    config = FinetuneConfig(str(base), (str(root / "data"),), str(root / "full-bf16"), limit=2, epochs=1,
+                            batch_size=4, grad_accum=1, lr=1e-3, lora=False, dtype="bf16")
+    assert train(config, resume=False, show_progress=False)["finished"]
+    before = load_model(str(base)).state_dict()
+    after = load_model(str(root / "full-bf16" / FINAL)).state_dict()
+    assert before.keys() == after.keys() and {v.dtype for v in after.values()} == {torch.float32}
+    changed = {k for k in before if not torch.equal(before[k], after[k])}
+    assert any("language_model" in k and "q_proj" in k for k in changed)
+    assert not any("vision_tower" in k for k in changed), "the vision encoder stays frozen"
 
 
 def test_errors_name_what_is_wrong(setup, tmp_path, capsys):
