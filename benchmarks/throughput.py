@@ -1,7 +1,8 @@
 """Env steps/s in the training loop, as ratios against Miniworld measured in the same run.
 
     python benchmarks/throughput.py [--steps 1000] [--rounds 5] [--only oneroom,tworoom,...]
-                                    [--collect-episodes 100] [--house-count 32] [--json OUT]
+                                    [--collect-episodes 100] [--house-count 32] [--helpers 1] [--json OUT]
+    python benchmarks/throughput.py --scaling [--helpers 1] [--rounds 3]
     python benchmarks/throughput.py --profile-resets 50 [--profile-id Legent/ComeHere-TwoRoom-v0]
 
 ``benchmarks/step.py`` keeps one house and measures stepping alone; training code resets
@@ -21,7 +22,11 @@ observations, one core. Rows (``--only`` names):
   ``MiniWorld-FourRooms-v0`` with ``obs_width=96, obs_height=96`` and Miniworld's own episode
   caps (180 and 250 steps), random discrete actions, the same loop. ``mw-fourrooms`` is the
   reference of the ratios and is always measured;
-* ``vec1``, ``vec2``: ``gym.make_vec("Legent/ComeHere-OneRoom-v0", num_envs=N,
+* ``oneroom-helpers``, ``tworoom-helpers``, ``tworoom-eph8-helpers``,
+  ``tworoom-houses-helpers``: those rows with ``helpers=H`` (``--helpers``; episodes
+  prepared in helper processes, ``legent_gym/envs/factory.py``), not pinned: the helpers
+  use the other cores;
+* ``vec1``, ``vec2``, ``vec8`` (any ``vecN``, and ``vecN-eph8``, ``vecN-helpers``): ``gym.make_vec("Legent/ComeHere-OneRoom-v0", num_envs=N,
   vectorization_mode="async")`` (forkserver workers, same-step autoreset), steps summed over
   the envs. N=1 runs pinned to one core (the parent and its env process), N=2 unpinned;
   reported as the ratio N=2 / N=1. With N=2 each env process pins itself to a core of its
@@ -48,8 +53,20 @@ rounds and includes the resets: it is what a training loop gets. ``x MW`` column
 medians of the per-round ratios to the Miniworld rows of the same round; ``cpu x MW
 FourRooms`` is that ratio in process CPU time (the one-process rows; steadier under other
 load). ``reset ms`` is the median time inside ``reset`` calls (autoresets included; resets
-inside the vector env's processes are not seen), ``reset ms (mean)`` their mean (with
-``episodes_per_house`` the median is an in-house reset, the mean counts the new houses too).
+inside the vector env's processes are not seen), ``reset ms (p99)`` their 99th
+percentile, ``reset ms (mean)`` their mean (with ``episodes_per_house`` the median is an
+in-house reset, the mean counts the new houses too): the time the stepping process sees.
+``steps per CPU-s, all processes`` counts the CPU time (user + system, ``psutil``) of the
+row's worker and every process under it (helpers, vector env workers, their forkserver)
+over the round, and ``(x MW FourRooms)`` is its ratio to Miniworld's in the same round:
+what a row costs the machine, whatever runs where. ``parent CPU us/step`` (vector rows) is
+the process CPU time of the process that holds the vector env per env-step (receiving and
+decoding observations).
+
+``--scaling`` measures the async vector env at N = 1, 2, 4, ... up to the cores the process
+may use (and that count), with a new house every episode, ``episodes_per_house=8`` and
+(with ``--helpers`` > 0) helpers, and prints each N's steps/s and its ratio to N=1: the
+run for a many-core machine.
 
 Headless Miniworld: Miniworld draws with pyglet 1.5 (OpenGL). With no display, a worker sets
 ``PYOPENGL_PLATFORM=egl`` and ``pyglet.options["headless"] = True`` before pyglet or
@@ -64,6 +81,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
+import math
 import os
 import shutil
 import statistics
@@ -96,12 +114,14 @@ def _configs() -> dict[str, dict]:
     rows["mw-oneroom"] = {"kind": "miniworld", "label": "MiniWorld-OneRoom-v0", "env_id": "MiniWorld-OneRoom-v0"}
     rows["mw-fourrooms"] = {"kind": "miniworld", "label": "MiniWorld-FourRooms-v0",
                             "env_id": "MiniWorld-FourRooms-v0"}
-    for n in (1, 2):
-        rows[f"vec{n}"] = {"kind": "vector", "label": f"make_vec ComeHere-OneRoom, async, N={n}",
-                           "env_id": LEGENT_IDS["OneRoom"], "num_envs": n, "kwargs": {}}
-        rows[f"vec{n}-eph8"] = {"kind": "vector", "env_id": LEGENT_IDS["OneRoom"], "num_envs": n,
-                                "label": f"make_vec ComeHere-OneRoom, async, N={n}, episodes_per_house=8",
-                                "kwargs": {"episodes_per_house": 8}}
+    for base in ("tworoom", "tworoom-eph8", "tworoom-houses", "oneroom"):
+        # The same with episode helpers (legent_gym/envs/factory.py), unpinned: the helper
+        # processes take the other cores.
+        row = dict(rows[base], kwargs={**rows[base]["kwargs"], "helpers": "HELPERS"}, pinned=False)
+        row["label"] += ", helpers=H"
+        rows[f"{base}-helpers"] = row
+    for n in (1, 2, 8):
+        rows.update({name: vector_config(name) for name in (f"vec{n}", f"vec{n}-eph8")})
     rows["vec2-inline"] = {"kind": "vector", "env_id": LEGENT_IDS["OneRoom"], "num_envs": 2,
                            "label": "make_vec ComeHere-OneRoom, async, N=2, prepare_ahead=False",
                            "kwargs": {"prepare_ahead": False}}
@@ -112,6 +132,56 @@ def _configs() -> dict[str, dict]:
                                      "--env-kwargs '{\"episodes_per_house\": 8}'",
                             "kwargs": {"episodes_per_house": 8}}
     return rows
+
+
+def vector_config(name: str) -> dict:
+    """``vecN`` (a new house every episode), ``vecN-eph8`` (``episodes_per_house=8``), and
+    either with ``-helpers`` (``helpers=H`` in every env)."""
+    parts = name.split("-")
+    n = int(parts[0][3:])
+    kwargs: dict = {}
+    label = f"make_vec ComeHere-OneRoom, async, N={n}"
+    if "eph8" in parts:
+        kwargs["episodes_per_house"] = 8
+        label += ", episodes_per_house=8"
+    if "helpers" in parts:
+        kwargs["helpers"] = "HELPERS"
+        label += ", helpers=H"
+    return {"kind": "vector", "label": label, "env_id": LEGENT_IDS["OneRoom"], "num_envs": n, "kwargs": kwargs}
+
+
+def row_config(name: str) -> dict:
+    """A row's configuration (vector rows of any N: see :func:`vector_config`)."""
+    if name in CONFIGS:
+        return CONFIGS[name]
+    if name.startswith("vec") and name[3:].split("-")[0].isdigit():
+        return vector_config(name)
+    raise KeyError(name)
+
+
+def scaling_rows(cores: int, extra: str = "") -> list[str]:
+    """``vecN`` rows for N = 1, 2, 4, ... up to ``cores`` (and ``cores`` itself)."""
+    counts, n = [], 1
+    while n < cores:
+        counts.append(n)
+        n *= 2
+    counts.append(cores)
+    return [f"vec{n}{extra}" for n in counts]
+
+
+def tree_cpu() -> float:
+    """CPU seconds (user + system) of this process and all its descendants, living or
+    reaped: what a row costs the machine, helper processes included."""
+    import psutil
+
+    me = psutil.Process()
+    times = me.cpu_times()
+    total = times.user + times.system + times.children_user + times.children_system
+    for child in me.children(recursive=True):
+        with contextlib.suppress(psutil.Error):
+            t = child.cpu_times()
+            total += t.user + t.system
+    return total
 
 
 CONFIGS = _configs()
@@ -144,7 +214,7 @@ class _Loop:
         env, actions, n = self.env, self.actions, len(self.actions)
         reset_ms, ends, successes = [], 0, 0
         perf, cpu = time.perf_counter, time.process_time
-        wall0, cpu0 = perf(), cpu()
+        wall0, cpu0, tree0 = perf(), cpu(), tree_cpu()
         for _ in range(steps):
             _, _, terminated, truncated, _ = env.step(actions[self.i % n])
             self.i += 1
@@ -154,8 +224,8 @@ class _Loop:
                 start = perf()
                 env.reset()
                 reset_ms.append((perf() - start) * 1e3)
-        return {"steps": steps, "wall": perf() - wall0, "cpu": cpu() - cpu0, "reset_ms": reset_ms,
-                "episodes": ends, "terminated": successes}
+        return {"steps": steps, "wall": perf() - wall0, "cpu": cpu() - cpu0, "tree_cpu": tree_cpu() - tree0,
+                "reset_ms": reset_ms, "episodes": ends, "terminated": successes}
 
 
 class _VecLoop:
@@ -168,13 +238,16 @@ class _VecLoop:
         vec, actions, n, k = self.vec, self.actions, len(self.actions), self.n
         batches = max(1, steps // k)
         ends = 0
-        wall0 = time.perf_counter()
+        wall0, cpu0, tree0 = time.perf_counter(), time.process_time(), tree_cpu()
         for _ in range(batches):
             batch = tuple(actions[(self.i + j) % n] for j in range(k))
             self.i += k
             _, _, terminated, truncated, _ = vec.step(batch)
             ends += int(terminated.sum() + truncated.sum())
-        return {"steps": batches * k, "wall": time.perf_counter() - wall0, "cpu": None, "reset_ms": [],
+        # "cpu" is the parent's alone (receiving and decoding observations); "tree_cpu" all
+        # processes' (the env workers and their helpers).
+        return {"steps": batches * k, "wall": time.perf_counter() - wall0, "cpu": None,
+                "parent_cpu": time.process_time() - cpu0, "tree_cpu": tree_cpu() - tree0, "reset_ms": [],
                 "episodes": ends, "terminated": None}
 
 
@@ -193,10 +266,10 @@ class _CollectLoop:
         shutil.rmtree(out, ignore_errors=True)
         config = self.CollectConfig(self.env_id, episodes, str(out), workers=1, seed=0,
                                     env_kwargs=dict(self.env_kwargs))
-        wall0, cpu0 = time.perf_counter(), time.process_time()
+        wall0, cpu0, tree0 = time.perf_counter(), time.process_time(), tree_cpu()
         summary = self.collect(config, show_progress=False)
         result = {"steps": summary.new_episodes, "wall": time.perf_counter() - wall0,
-                  "cpu": time.process_time() - cpu0, "reset_ms": [], "episodes": summary.new_episodes,
+                  "cpu": time.process_time() - cpu0, "tree_cpu": tree_cpu() - tree0, "reset_ms": [], "episodes": summary.new_episodes,
                   "terminated": summary.new_episodes, "attempts": summary.attempts,
                   "collect_seconds": summary.seconds}
         shutil.rmtree(out, ignore_errors=True)
@@ -209,6 +282,8 @@ class _CollectLoop:
 def _make_worker(config: dict, args) -> tuple[object, dict]:
     """The row's loop, set up and warmed up, and facts about it."""
     kind, seed = config["kind"], args.seed
+    if config.get("kwargs", {}).get("helpers") == "HELPERS":
+        config = dict(config, kwargs={**config["kwargs"], "helpers": args.helpers})
     facts: dict = {}
     if kind == "miniworld":
         os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
@@ -276,8 +351,8 @@ def worker_main(name: str, args) -> int:
     proto = os.fdopen(os.dup(1), "w", buffering=1)
     os.dup2(2, 1)
     sys.path.insert(0, str(HERE))
-    config = CONFIGS[name]
-    if config["kind"] != "vector" or config["num_envs"] == 1:
+    config = row_config(name)
+    if config.get("pinned", True) and (config["kind"] != "vector" or config["num_envs"] == 1):
         from benchmarks_common import pin_to_one_core
 
         pin_to_one_core()
@@ -386,7 +461,7 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
     ref = workers.get(REFERENCE)
     mw1 = workers.get("mw-oneroom")
     for name, w in workers.items():
-        row = {"label": CONFIGS[name]["label"], "status": w.status, "reason": w.reason, "facts": w.facts,
+        row = {"label": row_config(name)["label"], "status": w.status, "reason": w.reason, "facts": w.facts,
                "rounds": w.results}
         if w.results:
             rates = [_rate(r) for r in w.results]
@@ -395,6 +470,7 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
             resets = [ms for r in w.results for ms in r["reset_ms"]]
             row["reset_ms"] = statistics.median(resets) if resets else None
             row["reset_ms_mean"] = statistics.fmean(resets) if resets else None
+            row["reset_ms_p99"] = percentile(resets, 99) if resets else None
             row["resets"] = len(resets)
             eps = sum(r["episodes"] for r in w.results)
             row["steps_per_episode"] = sum(r["steps"] for r in w.results) / eps if eps else None
@@ -407,14 +483,32 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
                 # shared machine (the pinned rows have no render threads of their own).
                 row["cpu_x_fourrooms"] = statistics.median(
                     (a["steps"] / a["cpu"]) / (b["steps"] / b["cpu"]) for a, b in zip(w.results, ref.results))
-            if CONFIGS[name]["kind"] == "collect":
+            if all(r.get("tree_cpu") for r in w.results) and ref is not None and ref.results:
+                # Steps per CPU-second of the row's whole process tree (helpers and vector
+                # env workers included) against Miniworld's, round by round.
+                row["tree_steps_per_cpu_s"] = statistics.median(r["steps"] / r["tree_cpu"] for r in w.results)
+                row["tree_x_fourrooms"] = statistics.median(
+                    (a["steps"] / a["tree_cpu"]) / (b["steps"] / b["tree_cpu"]) for a, b in zip(w.results, ref.results))
+            if all(r.get("parent_cpu") is not None for r in w.results):
+                row["parent_us_per_step"] = statistics.median(1e6 * r["parent_cpu"] / r["steps"] for r in w.results)
+            if row_config(name)["kind"] == "collect":
                 row["attempts"] = sum(r["attempts"] for r in w.results)
         rows[name] = row
-    for one, name in (("vec1", "vec2"), ("vec1-eph8", "vec2-eph8"), ("vec1", "vec2-inline")):
-        if one in workers and name in workers and workers[one].results and workers[name].results:
+    for name in workers:
+        if not name.startswith("vec") or name.startswith("vec1-") or name == "vec1":
+            continue
+        rest = name.split("-", 1)[1] if "-" in name else ""
+        one = "vec1" + (f"-{rest}" if rest and rest != "inline" else "")
+        if one in workers and workers[one].results and workers[name].results:
             rows[name]["x_vec1"] = statistics.median(
                 _rate(b) / _rate(a) for a, b in zip(workers[one].results, workers[name].results))
     return rows
+
+
+def percentile(values: list[float], q: float) -> float:
+    """The ``q``-th percentile (nearest rank) of ``values``."""
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, max(0, math.ceil(q / 100 * len(ordered)) - 1))]
 
 
 def _fmt(value, spec: str, missing: str = "") -> str:
@@ -422,11 +516,12 @@ def _fmt(value, spec: str, missing: str = "") -> str:
 
 
 def markdown(rows: dict) -> str:
-    out = ["| row | steps/s | x MW FourRooms | cpu x MW FourRooms | x MW OneRoom | reset ms (median) "
-           "| reset ms (mean) | steps/episode |",
-           "|---|---:|---:|---:|---:|---:|---:|---:|"]
+    out = ["| row | steps/s | x MW FourRooms | cpu x MW FourRooms | x MW OneRoom | steps per CPU-s, all processes "
+           "| (x MW FourRooms) | reset ms (median) | reset ms (p99) | reset ms (mean) | steps/episode "
+           "| parent CPU us/step |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name, row in rows.items():
-        if CONFIGS[name]["kind"] == "collect":
+        if row_config(name)["kind"] == "collect":
             continue
         label = row["label"].replace("Legent/", "")
         if row["status"] != "ready" or "rate" not in row:
@@ -436,14 +531,17 @@ def markdown(rows: dict) -> str:
                 text = row["reason"]
             else:
                 text = f"error: {row['reason']}"
-            out.append(f"| {label} | {text} | | | | | | |")
+            out.append(f"| {label} | {text} | | | | | | | | | | |")
             continue
-        extra = f" (N=2/N=1: {row['x_vec1']:.2f})" if "x_vec1" in row else ""
+        extra = f" (N={row_config(name)['num_envs']}/N=1: {row['x_vec1']:.2f})" if "x_vec1" in row else ""
         out.append(f"| {label} | {row['rate']:.0f}{extra} | {_fmt(row.get('x_fourrooms'), '.2f', '1')} | "
                    f"{_fmt(row.get('cpu_x_fourrooms'), '.2f', '1' if name == REFERENCE else '')} | "
                    f"{_fmt(row.get('x_oneroom'), '.2f', '1' if name == 'mw-oneroom' else '')} | "
-                   f"{_fmt(row.get('reset_ms'), '.1f', 'n/a')} | {_fmt(row.get('reset_ms_mean'), '.1f', 'n/a')} | "
-                   f"{_fmt(row.get('steps_per_episode'), '.1f')} |")
+                   f"{_fmt(row.get('tree_steps_per_cpu_s'), '.0f')} | "
+                   f"{_fmt(row.get('tree_x_fourrooms'), '.2f', '1' if name == REFERENCE else '')} | "
+                   f"{_fmt(row.get('reset_ms'), '.1f', 'n/a')} | {_fmt(row.get('reset_ms_p99'), '.1f', 'n/a')} | "
+                   f"{_fmt(row.get('reset_ms_mean'), '.1f', 'n/a')} | {_fmt(row.get('steps_per_episode'), '.1f')} | "
+                   f"{_fmt(row.get('parent_us_per_step'), '.0f')} |")
     for name in ("collect", "collect-eph8"):
         if name not in rows:
             continue
@@ -513,6 +611,10 @@ def main(argv=None) -> int:
     parser.add_argument("--profile-resets", type=int, default=0, metavar="N",
                         help="instead: cProfile N resets of --profile-id and print the top 25 by cumulative time")
     parser.add_argument("--profile-id", default=LEGENT_IDS["TwoRoom"])
+    parser.add_argument("--helpers", type=int, default=1, help="helpers=H of the *-helpers rows")
+    parser.add_argument("--scaling", action="store_true",
+                        help="instead of --only: the async vector env at N = 1, 2, 4, ... cores workers "
+                             "(vecN, vecN-eph8, and with --helpers > 0 vecN-helpers), ratios to N=1")
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--houses-json", help=argparse.SUPPRESS)
     parser.add_argument("--scratch", help=argparse.SUPPRESS)
@@ -526,26 +628,37 @@ def main(argv=None) -> int:
         return 0
 
     names = [n.strip() for n in args.only.split(",") if n.strip()] or list(CONFIGS)
-    unknown = [n for n in names if n not in CONFIGS]
+    if args.scaling:
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+        names = scaling_rows(cores) + scaling_rows(cores, "-eph8")
+        if args.helpers:
+            names += scaling_rows(cores, "-helpers")
+    unknown = []
+    for n in names:
+        try:
+            row_config(n)
+        except (KeyError, ValueError):
+            unknown.append(n)
     if unknown:
-        parser.error(f"unknown rows {unknown}; known: {', '.join(CONFIGS)}")
+        parser.error(f"unknown rows {unknown}; known: {', '.join(CONFIGS)} and vecN[-eph8][-helpers]")
     if REFERENCE not in names:
         names.append(REFERENCE)
-    names = [n for n in CONFIGS if n in names]  # the table's order
+    known = [n for n in CONFIGS if n in names]
+    names = known + [n for n in names if n not in known]  # the table's order, then other vector rows
 
     load_before = os.getloadavg()
     scratch = Path(tempfile.mkdtemp(prefix="legent-throughput-"))
     try:
         houses, house_problem = {}, {}
         for layout in LEGENT_IDS:
-            rows = [n for n in (f"{layout.lower()}-houses", f"{layout.lower()}-houses-kept") if n in names]
+            rows = [n for n in names if row_config(n).get("layout") == layout]
             if rows:
                 folder = scratch / "houses" / layout
                 problem = generate_houses(layout, args.house_count, folder)
                 houses[layout] = str(folder)
                 if problem:
                     house_problem.update(dict.fromkeys(rows, problem))
-        common = ["--size", str(args.size), "--seed", str(args.seed), "--collect-episodes",
+        common = ["--size", str(args.size), "--seed", str(args.seed), "--helpers", str(args.helpers), "--collect-episodes",
                   str(args.collect_episodes), "--houses-json", json.dumps(houses), "--scratch", str(scratch)]
         workers: dict[str, Worker] = {}
         for name in names:
@@ -566,7 +679,7 @@ def main(argv=None) -> int:
             w.close()
         rows = summarise(workers, args.rounds)
         for name, problem in house_problem.items():
-            rows[name] = {"label": CONFIGS[name]["label"], "status": "unsupported" if problem.startswith("n/a")
+            rows[name] = {"label": row_config(name)["label"], "status": "unsupported" if problem.startswith("n/a")
                           else "error", "reason": problem, "facts": {}, "rounds": []}
         rows = {n: rows[n] for n in names if n in rows}
         load_after = os.getloadavg()
@@ -574,7 +687,7 @@ def main(argv=None) -> int:
         machine = {"cpus": os.cpu_count(), "gl_renderer": gl, "load_before": load_before, "load_after": load_after,
                    "python": sys.version.split()[0]}
         print(f"\n{args.rounds} rounds x {args.steps} steps per row, {args.size}x{args.size}, one core "
-              f"(vec2 rows: all cores); {machine['cpus']} CPUs, GL: {gl}, load {load_before[0]:.1f} -> {load_after[0]:.1f}\n")
+              f"(vector rows with N > 1 and *-helpers rows: all cores; helpers={args.helpers}); {machine['cpus']} CPUs, GL: {gl}, load {load_before[0]:.1f} -> {load_after[0]:.1f}\n")
         print(markdown(rows))
         if args.json:
             _atomic_json(args.json, {"args": {k: v for k, v in vars(args).items() if k not in ("worker",)},

@@ -217,11 +217,12 @@ def test_a_house_made_ahead_gives_the_same_episodes(episodes_per_house):
 
 
 def test_a_house_made_ahead_that_is_not_the_one_drawn_is_not_used():
-    # Drawing from the env's generator between episodes changes the next house: the house
-    # made ahead is not that one, and the episode is the one a run without it gives.
+    # Drawing from the env's generator between episodes changes the next house (the seed of
+    # the next block): the house made ahead is not that one, and the episode is the one a
+    # run without it gives.
     actions = ["rotate_right(90)", "move_forward(1)"] * 40
-    moved = _unseeded_run(actions, between=lambda env: env.unwrapped.np_random.random(), prepare_ahead=True)
-    inline = _unseeded_run(actions, between=lambda env: env.unwrapped.np_random.random(), prepare_ahead=False)
+    moved = _unseeded_run(actions, between=lambda env: env.unwrapped.np_random.integers(2), prepare_ahead=True)
+    inline = _unseeded_run(actions, between=lambda env: env.unwrapped.np_random.integers(2), prepare_ahead=False)
     assert moved[2] == 0 and moved[1] == inline[1]
     assert all(np.array_equal(a, b) for a, b in zip(moved[0], inline[0]))
 

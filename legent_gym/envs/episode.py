@@ -38,19 +38,30 @@ has them, doors and drawers as built, nothing held, nothing said. A house is reu
   megabytes (about 3 a OneRoom house, 4 a TwoRoom one): a ``houses`` folder of N houses
   with ``houses_kept`` >= N builds each house once.
 
-**The next house can be made ahead.** With ``prepare_ahead``, once an episode has begun in
-the last episode of its house, the house the next :meth:`Episode.begin` will draw is
-worked out from a copy of the episode's generator (nothing moves it between episodes) and
-generated and built in a background thread at the lowest CPU priority, so that it uses
-time the process would spend waiting: a vector env's worker waits for the slowest worker
-at every step (Gymnasium's and stable-baselines3's vector envs step in lock-step), and a
-reset there costs ten to a hundred steps. The next ``begin`` takes that house if it is the
-one drawn (the same key: the same house, so episodes are the same with or without it) and
-builds inline otherwise. One build runs at a time.
+**Every episode is the episode of a seed.** :meth:`Episode.play` begins the episode of a
+seed, which depends on the seed alone: seeds ``s`` with one ``s // K`` (``K`` =
+``episodes_per_house``) share a house, and spawns and goal come from a generator seeded
+with ``s``. A reset with a seed plays that seed; a reset without one plays the next seed
+of the current block while the block has episodes left, else the first seed ``b * K`` of
+a block ``b`` drawn from the env's generator (one draw per block, whatever the episodes
+did). So ``reset(seed=Episode.episode_seed)`` plays any episode again, and the seeds of
+the coming episodes are known before they begin (:meth:`Episode.upcoming`), which is what
+lets them be prepared elsewhere:
+
+* **in helper processes** (``helpers`` > 0; :mod:`legent_gym.envs.factory`), which play
+  the coming seeds while the env steps and ship each episode ready to use, so that a
+  reset only loads it;
+* **or, for the house alone, in a thread** (``prepare_ahead``): once an episode has begun
+  in the last episode of its house, the next block's house is generated and built in a
+  background thread at the lowest CPU priority, in time the process would spend waiting
+  (a vector env's worker waits for the slowest worker at every step). One build runs at
+  a time.
+
+Either way the next ``begin`` takes what was prepared only if it is the seed (or house)
+drawn, and plays it itself otherwise, so the episodes are the same with or without them.
 
 A house from a ``houses`` folder is written without a task in mind, so its every episode
-draws spawns under the task's conditions. A seeded episode (:meth:`Episode.begin` with
-``seed``) depends on its seed alone: seeds ``s`` with one ``s // K`` share a house.
+draws spawns under the task's conditions.
 """
 
 from __future__ import annotations
@@ -63,7 +74,7 @@ from collections import OrderedDict
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
@@ -96,6 +107,9 @@ from legent_gym.world.state import WorldState, capture, restore
 
 #: Houses drawn before :meth:`Episode.begin` gives up on finding one with a goal.
 HOUSE_RETRIES = 20
+if TYPE_CHECKING:
+    from legent_gym.envs.factory import EpisodeFactory, PreparedEpisode
+
 #: Built houses kept for reuse by default (a house is a few megabytes).
 HOUSE_CACHE_SIZE = 8
 #: New spawns tried in a kept house before a house with no goal for them is left.
@@ -103,6 +117,9 @@ SPAWN_RETRIES = 3
 #: Mixed into the seed of the generator that draws a block of seeded episodes' house, so
 #: that it is not the stream of any episode's own seed.
 HOUSE_STREAM = 0x4E05E
+#: An episode begun without a seed starts a new block at a seed ``b * K`` with ``b`` drawn
+#: below this from the env's generator (``K`` = ``episodes_per_house``).
+SEED_BLOCKS = 2**31 - 1
 #: The nice value of the thread that makes the next house ahead: it runs when the process
 #: would wait, not in place of its steps.
 AHEAD_NICE = 19
@@ -202,6 +219,8 @@ class House:
     spawns: SpawnSampler | None = None
     #: Episodes begun in this house since it was last drawn.
     episodes: int = 0
+    #: The compiled model as built, as MuJoCo's binary (``Episode.keep_binaries``).
+    binary: np.ndarray | None = None
 
 
 class HouseAhead:
@@ -261,13 +280,15 @@ class Episode:
         reach: the agent's interaction distance (metres).
         limits: the action limits primitives are clipped to.
         episodes_per_house: consecutive episodes in one built house.
-        prepare_ahead: make the next house in a background thread (module docstring).
+        prepare_ahead: make the next house in a background thread (module docstring; not
+            with helpers).
         houses_kept: the most built houses kept for reuse (module docstring).
+        helpers: processes that prepare the coming episodes (module docstring).
     """
 
     def __init__(self, task: Task, houses: HouseSource, build_options: BuildOptions, observing: Observing, *,
                  reach: float, limits: ActionLimits, episodes_per_house: int = 1, prepare_ahead: bool = False,
-                 houses_kept: int = HOUSE_CACHE_SIZE):
+                 houses_kept: int = HOUSE_CACHE_SIZE, helpers: int = 0):
         if isinstance(episodes_per_house, bool) or not isinstance(episodes_per_house, int | np.integer) \
                 or episodes_per_house < 1:
             raise ValueError(f"episodes_per_house must be a positive integer, got {episodes_per_house!r}")
@@ -291,6 +312,17 @@ class Episode:
         self._renderer_world: World | None = None
         self.prepare_ahead = bool(prepare_ahead)
         self._ahead: HouseAhead | None = None
+        #: The seed of the current episode (given or drawn; None for a scene given to begin).
+        self.episode_seed: int | None = None
+        if isinstance(helpers, bool) or not isinstance(helpers, int | np.integer) or helpers < 0:
+            raise ValueError(f"helpers must be a non-negative integer, got {helpers!r}")
+        #: Helper processes that prepare the coming episodes (0: none; see the module docstring).
+        self.helpers = int(helpers)
+        self._factory: EpisodeFactory | None = None
+        #: Episodes begun from one a helper prepared (the rest were played here).
+        self.episodes_from_helpers = 0
+        #: Keep each built house's compiled model as MuJoCo's binary (what helpers ship).
+        self.keep_binaries = False
         #: Houses made ahead that a begin() took (the rest were not the house drawn).
         self.houses_taken_ahead = 0
         # Houses are made one at a time (the asset caches are shared by all builds).
@@ -328,28 +360,85 @@ class Episode:
 
     # -- 1. house draw, set-up and goal --------------------------------------------------------
     def begin(self, rng: np.random.Generator, scene: Scene | None = None, *, seed: int | None = None) -> int:
-        """Start an episode: a house (``scene`` if given; else the current house while it
-        has episodes left of ``episodes_per_house``; else one from :attr:`houses`), set up
-        or restored, and a goal in it, drawing another house while one offers none.
-        Returns the number of houses tried. Every draw comes from ``rng`` (seeded with
-        ``seed`` by the caller, if ``seed`` is given).
+        """Start an episode and return the number of houses tried. With ``scene``: that house,
+        set up as it is, and a goal drawn from ``rng``. Otherwise the episode of a seed (see
+        :meth:`play`): ``seed`` if given, else :meth:`next_seed` of ``rng`` (the next seed
+        of the current block of ``episodes_per_house`` seeds, or the first of a new block
+        drawn from ``rng``). With helpers the episode is taken ready-made from them when it
+        is one they were asked to prepare (:mod:`legent_gym.envs.factory`): the same episode."""
+        if scene is not None:
+            self.episode_seed = None
+            return self._begin(rng, rng, 0, scene)
+        if seed is None:
+            seed = self.next_seed(rng)
+        elif isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+            raise ValueError(f"seed must be a non-negative integer, got {seed!r}")
+        seed = int(seed)
+        factory = self._start_factory()
+        if factory is None:
+            attempts = self.play(seed)
+            if self.prepare_ahead:
+                self._make_next_ahead(rng)
+            return attempts
+        prepared = factory.take(seed)
+        adopted = self._adopt(prepared) if prepared is not None else None
+        if adopted is None:
+            attempts = self.play(seed)
+        else:
+            attempts = adopted
+            self.episodes_from_helpers += 1
+        factory.want(self.upcoming(rng, factory.lookahead), self._held_keys())
+        return attempts
 
-        With a ``seed`` the episode depends on the seed alone, whatever came before: seeds
-        ``s`` with one ``s // K`` (``K`` = ``episodes_per_house``) share a house, drawn from
-        a generator of that block (a kept one is taken as it is), and ``s`` is episode
-        ``s % K`` in it (0: at the house's own spawns)."""
+    def play(self, seed: int) -> int:
+        """Start the episode of ``seed``, which depends on the seed alone: seeds ``s`` with
+        one ``s // K`` (``K`` = ``episodes_per_house``) share a house, drawn from a generator
+        of that block (a kept one is taken as it is), and ``s`` is episode ``s % K`` in it (0:
+        at the house's own spawns); spawns and goal come from a generator seeded with ``s``
+        (the one ``Env.reset(seed=s)`` seeds). Returns the number of houses tried."""
+        self.episode_seed = seed = int(seed)
+        return self._begin(*self._generators(seed))
+
+    def _generators(self, seed: int) -> tuple[np.random.Generator, np.random.Generator, int]:
+        """The episode's generator, its house's, and its index in the house (:meth:`play`)."""
+        rng = np.random.default_rng(seed)
+        block, index_in_house = divmod(seed, self.episodes_per_house)
+        house_rng = rng
+        if self.episodes_per_house > 1:
+            house_rng = np.random.default_rng([block, self.episodes_per_house, HOUSE_STREAM])
+        return rng, house_rng, index_in_house
+
+    def next_seed(self, rng: np.random.Generator) -> int:
+        """The seed of the next episode begun without one: the next seed of the current
+        block while it has episodes left, else the first seed of a block drawn from ``rng``
+        (one draw, whatever the episodes did)."""
+        return self._following(self.episode_seed, rng)
+
+    def upcoming(self, rng: np.random.Generator, count: int) -> list[int]:
+        """The seeds of the next ``count`` episodes begun without a seed, if nothing else
+        draws from ``rng`` in between (``rng`` is not moved)."""
+        rng = copy.deepcopy(rng)
+        seeds: list[int] = []
+        last = self.episode_seed
+        for _ in range(count):
+            last = self._following(last, rng)
+            seeds.append(last)
+        return seeds
+
+    def _following(self, last: int | None, rng: np.random.Generator) -> int:
+        k = self.episodes_per_house
+        if last is not None and last % k != k - 1:
+            return last + 1
+        return int(rng.integers(SEED_BLOCKS)) * k
+
+    def _begin(self, rng: np.random.Generator, house_rng: np.random.Generator, index_in_house: int,
+               scene: Scene | None = None) -> int:
+        """A house (``scene``, else drawn from ``house_rng``), set up or restored, and a goal
+        in it from ``rng``, drawing another house while one offers none."""
         failure = None
-        current = None if seed is not None or scene is not None else self.house
-        house_rng, index_in_house = rng, 0
-        if seed is not None:
-            block, index_in_house = divmod(int(seed), self.episodes_per_house)
-            if self.episodes_per_house > 1:
-                house_rng = np.random.default_rng([block, self.episodes_per_house, HOUSE_STREAM])
         for attempt in range(HOUSE_RETRIES):
             if scene is not None:
                 house = self._build(HouseDraw(("given", id(scene)), None, lambda: (scene, None)), keep=False)
-            elif current is not None and current.episodes < self.episodes_per_house:
-                house = current
             else:
                 try:
                     draw = self.houses.draw(house_rng, self.task)
@@ -360,7 +449,6 @@ class Episode:
                     if self.houses.seed_fixed:
                         raise
                     failure = err
-                    current = None
                     continue
                 house.episodes = index_in_house if attempt == 0 else 0
             drawn_spawns = bool(house.episodes) or house.draw.spawns_drawn
@@ -369,14 +457,52 @@ class Episode:
                 self.goal = self.task.sample(ctx, rng)
                 if self.goal is not None:
                     house.episodes += 1
-                    if self.prepare_ahead and seed is None and scene is None:
-                        self._make_next_ahead(rng)
                     return attempt + 1
             if not drawn_spawns and (scene is not None or self.houses.house_fixed):
                 raise ValueError(f"task {self.task.name} has no valid goal in house {house.scene.name!r}")
-            current = None  # this house offers no goal: the next try draws another
         raise RuntimeError(f"no house in {HOUSE_RETRIES} tries offered a {self.task.name} goal"
                            + (f" (the last generation failed: {failure})" if failure else ""))
+
+    def _start_factory(self) -> EpisodeFactory | None:
+        """The helpers, started on first use; None without helpers or where episodes are
+        not the seed's alone (a fixed scene, a pool of seeds)."""
+        if not self.helpers or self.houses.scene is not None or self.houses.house_pool:
+            return None
+        if self._factory is None:
+            from legent_gym.envs.factory import EpisodeFactory
+
+            self._factory = EpisodeFactory(self, self.helpers)
+        return self._factory
+
+    def _held_keys(self) -> set[tuple]:
+        """The keys of the houses this engine holds built."""
+        held = set(self._kept)
+        if self.house is not None:
+            held.add(self.house.draw.key)
+        return held
+
+    def _adopt(self, prepared: PreparedEpisode) -> int | None:
+        """Begin the episode a helper prepared; None when its house is neither held here
+        nor shipped (then the caller plays it)."""
+        key = prepared.key
+        house = self._kept.get(key)
+        if house is not None:
+            self._kept.move_to_end(key)
+        elif self.house is not None and self.house.draw.key == key:
+            house = self.house
+        elif prepared.house is not None:
+            assert self._factory is not None
+            house = prepared.house.to_house(self._factory.library)
+            if house.draw.repeats or self.episodes_per_house > 1:
+                self._keep(house)
+        else:
+            return None
+        self.episode_seed = prepared.seed
+        house.episodes = prepared.episodes
+        ctx = self._enter(house, prepared.agent, prepared.user)
+        ctx.add_cached_distances(prepared.distances)
+        self.goal = prepared.goal
+        return prepared.attempts
 
     def _kept_or_built(self, draw: HouseDraw) -> House:
         house = self._kept.get(draw.key)
@@ -395,12 +521,14 @@ class Episode:
         return self._build(draw, keep=keep)
 
     def _make_next_ahead(self, rng: np.random.Generator) -> None:
-        """Start making the house the next unseeded :meth:`begin` draws, if it will draw one
-        that is not kept and no other house is being made."""
-        house = self.house
-        if house is None or house.episodes < self.episodes_per_house or self._ahead is not None:
+        """Start making the house the next unseeded :meth:`begin` draws, if it begins a new
+        block of seeds, draws a house that is not kept, and no other house is being made."""
+        if self._ahead is not None:
             return
-        draw = self.houses.peek(rng, self.task)
+        _, house_rng, index = self._generators(self.upcoming(rng, 1)[0])
+        if index:
+            return
+        draw = self.houses.peek(house_rng, self.task)
         if draw.key not in self._kept:
             self._ahead = HouseAhead(draw, self._make_house)
 
@@ -411,7 +539,11 @@ class Episode:
             if nav is None or nav.agent_radius != self.build_options.agent.radius:
                 nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
             seed = scene.seed if draw.spawns_drawn else draw.seed
-            return House(draw, scene, world, nav, capture(world), seed)
+            binary = None
+            if self.keep_binaries:  # as built, before any episode touches the model
+                binary = np.empty(mujoco.mj_sizeModel(world.model), np.uint8)
+                mujoco.mj_saveModel(world.model, None, binary)
+            return House(draw, scene, world, nav, capture(world), seed, binary=binary)
 
     def _build(self, draw: HouseDraw, keep: bool) -> House:
         house = self._make_house(draw)
@@ -566,12 +698,16 @@ class Episode:
                 body.show_motion(1.0)
 
     def close(self) -> None:
-        """Free the renderer (a new one is made for the next frame) and wait for a house
-        being made ahead (it is dropped)."""
+        """Free the renderer (a new one is made for the next frame), wait for a house
+        being made ahead (it is dropped) and stop the helper processes (started again by
+        the next :meth:`begin`)."""
         self._close_renderer()
         ahead, self._ahead = self._ahead, None
         if ahead is not None:
             ahead.wait()
+        factory, self._factory = self._factory, None
+        if factory is not None:
+            factory.close()
 
     def _close_renderer(self) -> None:
         if self._renderer is not None:
@@ -582,7 +718,7 @@ class Episode:
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
         state.update(ctx=None, goal=None, house=None, _kept=OrderedDict(), _renderer=None, _renderer_world=None,
-                     _ahead=None, _build_lock=None)
+                     _ahead=None, _build_lock=None, _factory=None)
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:

@@ -128,7 +128,14 @@ class HouseholdEnv(gym.Env):
     * ``prepare_ahead``: make the next house in a background thread at the lowest CPU
       priority, in time the process would spend waiting (same episodes; see
       :mod:`legent_gym.envs.episode`). Default None: on in a vector env's pinned worker
-      process, where the lock-step of the vector env leaves such time, off elsewhere.
+      process, where the lock-step of the vector env leaves such time, off elsewhere
+      (and off with ``helpers``).
+    * ``helpers``: child processes that prepare the coming episodes (house, spawns, goal)
+      while this env steps, so that a reset only loads one (default 0: none; the same
+      episodes either way; stopped by ``close()``; not used with ``scene`` or
+      ``house_pool``; see :mod:`legent_gym.envs.factory`). A helper plays an episode of a
+      new house in about three times the CPU the env spends stepping through it, so give
+      2-3 per env where cores are free.
     * ``depth``, ``segmentation``: add these images to the observation.
     * ``strict``: raise on an invalid action instead of a no-op step.
     * ``reach``: interaction distance in metres (1.5).
@@ -169,7 +176,7 @@ class HouseholdEnv(gym.Env):
                  distance_info: bool = True, render_mode: str | None = None, render_size: int = 256,
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
                  episodes_per_house: int = 1, houses_kept: int = HOUSE_CACHE_SIZE, pin_worker: bool = True,
-                 prepare_ahead: bool | None = None, tasks: str | Path | list | None = None,
+                 prepare_ahead: bool | None = None, helpers: int = 0, tasks: str | Path | list | None = None,
                  frames_per_step: int = 1, user_moves: bool = False):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
@@ -205,8 +212,9 @@ class HouseholdEnv(gym.Env):
         self.episode = Episode(make_task(task, **(task_options or {})), source, build_options,
                                Observing(self.width, self.height, depth, segmentation), reach=reach,
                                limits=ActionLimits(), episodes_per_house=episodes_per_house,
-                               houses_kept=houses_kept,
-                               prepare_ahead=self.worker_core is not None if prepare_ahead is None else prepare_ahead)
+                               houses_kept=houses_kept, helpers=helpers,
+                               prepare_ahead=(self.worker_core is not None and not helpers) if prepare_ahead is None
+                               else prepare_ahead)
 
         self.episode.record_motion = frames_per_step > 1
         self.action_space = text_action_space() if action_type == "text" else continuous_action_space(

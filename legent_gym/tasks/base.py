@@ -61,6 +61,17 @@ class TaskContext:
         here = nav.nearest_walkable_cell(self.agent.xy)
         return math.inf if here is None else float(grid[here])
 
+    def cached_distances(self) -> dict[str, dict]:
+        """The distance fields and standing points found so far (a copy), for
+        :meth:`add_cached_distances` of a context of the same house and episode."""
+        return {"fields": dict(self._fields), "stands": dict(self._stands)}
+
+    def add_cached_distances(self, cached: dict[str, dict]) -> None:
+        """Take what :meth:`cached_distances` of another context of this house and
+        episode found (the same answers, without searching again)."""
+        self._fields.update(cached["fields"])
+        self._stands.update(cached["stands"])
+
     def distance_to_object(self, object_id: int) -> float:
         """Geodesic metres from the agent to where it could reach the object."""
         if self.agent.state.held == object_id:
