@@ -4,6 +4,7 @@ with no display, unless ``MUJOCO_GL`` is set (why: see docs/architecture.md). Mu
 first.
 """
 
+import atexit
 import os
 import sys
 import weakref
@@ -31,6 +32,16 @@ _live: dict[str, weakref.WeakSet] = {"gl": weakref.WeakSet(), "mjr": weakref.Wea
 def track_context(kind: str, context: object) -> None:
     """Count ``context`` (kind ``"gl"`` or ``"mjr"``) in :func:`live_contexts` while it lives."""
     _live[kind].add(context)
+    if kind == "gl" and type(context).__module__ == "mujoco.osmesa":
+        # MuJoCo's OSMesa context frees itself in __del__, which at interpreter exit may run
+        # after PyOpenGL is torn down and print a traceback: free it while Python is whole.
+        atexit.register(_free_at_exit, weakref.ref(context))
+
+
+def _free_at_exit(context: weakref.ref) -> None:
+    live = context()
+    if live is not None:
+        live.free()
 
 
 def live_contexts() -> dict[str, int]:

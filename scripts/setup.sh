@@ -7,35 +7,38 @@ cd "$(dirname "$0")/.."
 
 extras="${LEGENT_EXTRAS:-dev}"
 
-# Headless rendering: EGL with Mesa's software rasteriser (llvmpipe). No X server needed.
-need_gl=()
-for pkg in libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri libgles2; do
-  dpkg -s "$pkg" >/dev/null 2>&1 || need_gl+=("$pkg")
-done
-if [ "${#need_gl[@]}" -gt 0 ]; then
+# apt_install CONSEQUENCE PACKAGE...: install the Debian packages not installed yet (with no
+# apt-get: a warning that ends with CONSEQUENCE).
+apt_install() {
+  local without="$1" need=() pkg
+  shift
+  for pkg in "$@"; do
+    dpkg -s "$pkg" >/dev/null 2>&1 || need+=("$pkg")
+  done
+  [ "${#need[@]}" -gt 0 ] || return 0
   if command -v apt-get >/dev/null 2>&1; then
-    sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-    echo "installing system packages: ${need_gl[*]}"
+    local sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
+    echo "installing system packages: ${need[*]}"
     $sudo_cmd apt-get update -qq
-    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${need_gl[@]}" >/dev/null
+    DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq "${need[@]}" >/dev/null
   else
-    echo "warning: cannot install ${need_gl[*]} (no apt-get); install EGL + Mesa by hand" >&2
+    echo "warning: cannot install ${need[*]} (no apt-get); $without" >&2
   fi
-fi
+}
+
+# Headless rendering: EGL with Mesa's software rasteriser (llvmpipe). No X server needed.
+apt_install "install EGL + Mesa by hand" libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri libgles2
+
+# The dev extra's tests render through the other backends too (tests/test_gl_backend.py:
+# MUJOCO_GL=osmesa, and GLFW on a display: a virtual X server).
+case ",$extras," in
+  *,dev,*|*,all,*) apt_install "tests/test_gl_backend.py skips its OSMesa and display tests" libosmesa6 xvfb ;;
+esac
 
 # The play extra's browser tests drive Debian's chromium package (never a downloaded browser build).
 case ",$extras," in
   *,play,*|*,all,*)
-    if ! command -v chromium >/dev/null 2>&1; then
-      if command -v apt-get >/dev/null 2>&1; then
-        sudo_cmd=""; [ "$(id -u)" -ne 0 ] && sudo_cmd="sudo"
-        echo "installing system package: chromium"
-        $sudo_cmd apt-get update -qq
-        DEBIAN_FRONTEND=noninteractive $sudo_cmd apt-get install -y -qq chromium >/dev/null
-      else
-        echo "warning: cannot install chromium (no apt-get); the browser tests of legent-gym play are skipped" >&2
-      fi
-    fi ;;
+    command -v chromium >/dev/null 2>&1 || apt_install "the browser tests of legent-gym play are skipped" chromium ;;
 esac
 
 python="${PYTHON:-python3}"
