@@ -77,6 +77,8 @@ _AIM_FRACTIONS = np.vstack([_AIM_FRACTIONS[[0, 25]],
 _CHUNK = 16
 _SURFACE_FRACTIONS = np.array([(fx, fy) for fx in np.linspace(-0.8, 0.8, 5) for fy in np.linspace(-0.8, 0.8, 5)])
 _GRIDS: OrderedDict[tuple, tuple[NavGrid, NavGrid]] = OrderedDict()
+#: The planning grids without the user, per house and margin.
+_BASES: OrderedDict[tuple, tuple[NavGrid, NavGrid]] = OrderedDict()
 #: Planning grids kept (this episode's two margins, and the last one's), and the distance
 #: fields each keeps: a field of a FourRoom house is about a megabyte.
 _GRID_CACHE_SIZE, _FIELDS_PER_GRID = 4, 16
@@ -102,18 +104,35 @@ def planning_grid(ctx: TaskContext, margin: float = PLANNING_MARGIN) -> NavGrid:
     if hit is not None:
         _GRIDS.move_to_end(key)
         return hit[1]
-    obstacles = nav.obstacles.copy()
-    if user is not None:
-        rows, cols = np.ogrid[:nav.shape[0], :nav.shape[1]]
-        cx = nav.origin[0] + (cols + 0.5) * nav.resolution
-        cy = nav.origin[1] + (rows + 0.5) * nav.resolution
-        obstacles |= np.hypot(cx - user[0], cy - user[1]) <= ctx.user.options.radius
-    grid = NavGrid(nav.origin, nav.resolution, nav.floor, nav.walls, obstacles,
-                   nav.agent_radius + margin, scene=nav.scene, footprints=nav.footprints)
+    # The grid without the user, made once per house and margin; the user's disc is added
+    # to it for each place the user stands (NavGrid.with_obstacles: the same grid, cheaper).
+    grid = _cached(_BASES, key[:2], nav, lambda: NavGrid(nav.origin, nav.resolution, nav.floor, nav.walls,
+                                                          nav.obstacles, nav.agent_radius + margin,
+                                                          scene=nav.scene, footprints=nav.footprints))
     grid.cache_size = _FIELDS_PER_GRID
-    _GRIDS[key] = (nav, grid)  # the nav is kept so that its id is not reused while cached
-    if len(_GRIDS) > _GRID_CACHE_SIZE:
-        _GRIDS.popitem(last=False)
+    if user is not None:
+        disc = np.zeros(nav.shape, dtype=bool)
+        radius = ctx.user.options.radius
+        window = nav.raster.window(user[0] - radius, user[1] - radius, user[0] + radius, user[1] + radius)
+        if window is not None:
+            sl, cx, cy = window  # cell centres: origin + (index + 0.5) * resolution
+            disc[sl] = np.hypot(cx - user[0], cy - user[1]) <= radius
+        grid = grid.with_obstacles(disc)
+        grid.cache_size = _FIELDS_PER_GRID
+    return _cached(_GRIDS, key, nav, lambda: grid)
+
+
+def _cached(cache: OrderedDict[tuple, tuple[NavGrid, NavGrid]], key: tuple, nav: NavGrid, make) -> NavGrid:
+    """``cache[key]``'s grid, made with ``make()`` if missing (the least recently used of
+    :data:`_GRID_CACHE_SIZE` dropped)."""
+    hit = cache.get(key)
+    if hit is not None:
+        cache.move_to_end(key)
+        return hit[1]
+    grid = make()
+    cache[key] = (nav, grid)  # the nav is kept so that its id is not reused while cached
+    if len(cache) > _GRID_CACHE_SIZE:
+        cache.popitem(last=False)
     return grid
 
 
@@ -153,10 +172,17 @@ def user_stand(ctx: TaskContext, start: Sequence[float]) -> tuple[float, float] 
     first comes that close), on the planning grid, else on the grid without its extra
     margin; None if the user cannot be approached."""
     user = np.asarray(ctx.user.position, dtype=float)
+    corners = np.repeat(user[None, :], 4, axis=0)
     for margin in (PLANNING_MARGIN, 0.0):
-        near = _near(planning_grid(ctx, margin), np.repeat(user[None, :], 4, axis=0), USER_STOP, start)
-        if len(near):
-            return float(near[0][0]), float(near[0][1])
+        grid = planning_grid(ctx, margin)
+        component = grid.component(start)
+        if component == 0:
+            continue
+        # _near's first point, without the sight test of the points after it.
+        cells, _ = grid.reach_cells(corners, USER_STOP, component, rank=lambda g=grid: g.distance_field(start))
+        if len(cells):
+            x, y = grid.to_world(cells[0])
+            return float(x), float(y)
     return None
 
 

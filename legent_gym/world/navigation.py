@@ -210,7 +210,7 @@ class NavGrid:
 
     def __init__(self, origin: XY, resolution: float, floor: np.ndarray, walls: np.ndarray,
                  obstacles: np.ndarray, agent_radius: float, *, scene: Scene | None = None,
-                 footprints: dict[int, np.ndarray] | None = None):
+                 footprints: dict[int, np.ndarray] | None = None, walkable: np.ndarray | None = None):
         self.origin = (float(origin[0]), float(origin[1]))
         self.resolution = float(resolution)
         self.agent_radius = float(agent_radius)
@@ -220,7 +220,9 @@ class NavGrid:
         #: Furniture footprints and open door leaves.
         self.obstacles = obstacles
         self.free = floor & ~walls & ~obstacles
-        self.walkable = walkable_from_free(self.free, self.agent_radius, self.resolution)
+        # ``walkable``: what walkable_from_free gives, when the caller has it (with_obstacles).
+        self.walkable = walkable_from_free(self.free, self.agent_radius, self.resolution) if walkable is None \
+            else walkable
         self.scene = scene
         self.footprints = footprints or {}
         self.raster = Raster(self.origin, self.resolution, self.free.shape)
@@ -229,6 +231,9 @@ class NavGrid:
         self._graph: csr_matrix | None = None
         self._index: np.ndarray | None = None
         self._cells: np.ndarray | None = None
+        #: The cells that are the path graph's nodes, in raster order (the walkable cells;
+        #: a grid made by :meth:`with_obstacles` keeps its source's, some left unlinked).
+        self._numbered = self.walkable
         self._fields: OrderedDict[int, tuple[np.ndarray, np.ndarray]] = OrderedDict()
         self._open: np.ndarray | None = None
         self._component_masks: dict[int, np.ndarray] = {}
@@ -297,6 +302,78 @@ class NavGrid:
             if fp is not None:
                 footprints[obj.id] = fp
         return footprints
+
+    def with_obstacles(self, extra: np.ndarray) -> NavGrid:
+        """``NavGrid(origin, resolution, floor, walls, obstacles | extra, agent_radius)`` (the
+        same cells, components, distances and paths), for less when ``extra`` (a mask) blocks
+        a few cells, such as a person standing: the walkable cells are this grid's less those
+        within the agent's clearance of a newly blocked cell (squared distances between cells
+        are integers: the test :func:`clearance_at_least` makes), and the path graph is this
+        grid's with the edges those cells break taken out. Its nodes keep this grid's numbers
+        (the cells that lost theirs keep them, unlinked), which changes no search: Dijkstra's
+        heap orders nodes by distance alone and a node's edges keep their order."""
+        extra = np.asarray(extra, dtype=bool)
+        obstacles = self.obstacles | extra
+        newly = extra & self.free
+        rows, cols = np.nonzero(newly)
+        h, w = self.shape
+        walkable: np.ndarray | None = None
+        lost = None  # (first row, first column, the cells that are no longer walkable there)
+        if len(rows) == 0:
+            walkable = self.walkable
+        elif self.agent_radius > 0 and not self.free.all():  # else walkable_from_free's other cases
+            n = least_square_distance(self.agent_radius + 0.5 * self.resolution, self.resolution)
+            m = math.isqrt(max(n - 1, 0))
+            r0, r1 = max(int(rows.min()) - m, 0), min(int(rows.max()) + m + 1, h)
+            c0, c1 = max(int(cols.min()) - m, 0), min(int(cols.max()) + m + 1, w)
+            if (r1 - r0) * (c1 - c0) * len(rows) <= 1 << 21:  # else a transform of the grid is cheaper
+                wr, wc = np.mgrid[r0:r1, c0:c1]
+                d2 = (wr.reshape(-1, 1) - rows[None, :]) ** 2 + (wc.reshape(-1, 1) - cols[None, :]) ** 2
+                near = ~(d2 >= n).all(axis=1).reshape(r1 - r0, c1 - c0)
+                walkable = self.walkable.copy()
+                walkable[r0:r1, c0:c1] &= ~near
+                lost = (r0, c0, near & self.walkable[r0:r1, c0:c1])
+        grid = NavGrid(self.origin, self.resolution, self.floor, self.walls, obstacles, self.agent_radius,
+                       scene=self.scene, footprints=self.footprints, walkable=walkable)
+        if walkable is not None:
+            self._unlink(grid, lost)
+        return grid
+
+    def _unlink(self, grid: NavGrid, lost: tuple[int, int, np.ndarray] | None) -> None:
+        """Give ``grid`` (this grid less the ``lost`` walkable cells) this grid's path graph
+        less the edges of those cells and the diagonals that would cut their corners."""
+        graph, index, cells = self._path_graph()
+        if lost is None or not lost[2].any():
+            grid._graph, grid._index, grid._cells, grid._numbered = graph, index, cells, self._numbered
+            return
+        walk = grid.walkable
+        h, w = walk.shape
+        rows, cols = np.nonzero(lost[2])
+        rows += lost[0]
+        cols += lost[1]
+        # The only rows that change: nodes within one cell of a removed one (a box of them).
+        r0, r1 = max(int(rows.min()) - 1, 0), min(int(rows.max()) + 2, h)
+        c0, c1 = max(int(cols.min()) - 1, 0), min(int(cols.max()) + 2, w)
+        near = index[r0:r1, c0:c1]
+        nodes = near[near >= 0]
+        indptr = graph.indptr
+        starts, counts = indptr[nodes], indptr[nodes + 1] - indptr[nodes]
+        total = int(counts.sum())
+        first = np.repeat(starts - np.concatenate([[0], np.cumsum(counts)[:-1]]), counts)
+        entries = first + np.arange(total)
+        src = cells[np.repeat(nodes, counts)]
+        dst = cells[graph.indices[entries]]
+        sr, sc, tr, tc = src[:, 0], src[:, 1], dst[:, 0], dst[:, 1]
+        ok = walk[sr, sc] & walk[tr, tc] & walk[tr, sc] & walk[sr, tc]  # diagonals: both corners
+        cut = entries[~ok]
+        keep = np.ones(len(graph.indices), dtype=bool)
+        keep[cut] = False
+        dropped = np.zeros(len(indptr), dtype=indptr.dtype)
+        np.cumsum(np.bincount(np.repeat(nodes, counts)[~ok], minlength=len(indptr) - 1), out=dropped[1:])
+        grid._graph = csr_matrix((graph.data[keep], graph.indices[keep], indptr - dropped), shape=graph.shape)
+        unlinked = index.copy()
+        unlinked[rows, cols] = -1
+        grid._index, grid._cells, grid._numbered = unlinked, cells, self._numbered
 
     # -- coordinates --------------------------------------------------------------------
     @property
@@ -379,29 +456,30 @@ class NavGrid:
         directly, sorted, as SciPy would sort them from a list of edges."""
         walk = self.walkable
         h, w = walk.shape
-        n = int(walk.sum())
-        index = np.full(walk.shape, -1, dtype=np.int64)
-        index[walk] = np.arange(n)
-        padded = np.full((h + 2, w + 2), -1, dtype=np.int64)
-        padded[1:-1, 1:-1] = index
+        n = int(np.count_nonzero(walk))
+        # SciPy's choice of index type: 32 bits when every index and count fits (a node has
+        # at most 8 edges).
+        dtype = np.int32 if 8 * n <= np.iinfo(np.int32).max else np.int64
+        padded = np.full((h + 2, w + 2), -1, dtype=dtype)
+        index = padded[1:-1, 1:-1]
+        index[walk] = np.arange(n, dtype=dtype)
         cells = np.argwhere(walk)
-        # Each cell's neighbours through flat offsets into the padded grid (-1: none).
-        flat = padded.ravel()
-        at = (cells[:, 0] + 1) * (w + 2) + cells[:, 1] + 1
-        node = {(dr, dc): flat.take(at + (dr * (w + 2) + dc)) for dr, dc in _NEIGHBOURS}
-        for dr, dc in _NEIGHBOURS:
+        # Each cell's neighbours (node-major, directions in raster order: the CSR rows in
+        # order) through flat offsets into the padded grid (-1: none), in one gather.
+        at = (cells[:, 0] + 1) * (w + 2) + (cells[:, 1] + 1)
+        offsets = np.array([dr * (w + 2) + dc for dr, dc in _NEIGHBOURS])
+        neighbours = padded.ravel().take(at[:, None] + offsets[None, :])
+        for k, (dr, dc) in enumerate(_NEIGHBOURS):
             if dr and dc:  # no cutting corners: both cells it passes between are walkable
-                node[dr, dc] = np.where((node[dr, 0] >= 0) & (node[0, dc] >= 0), node[dr, dc], -1)
+                blocked = (neighbours[:, _NEIGHBOURS.index((dr, 0))] < 0) | (neighbours[:, _NEIGHBOURS.index((0, dc))] < 0)
+                neighbours[blocked, k] = -1
         res = self.resolution
-        steps = [res * math.sqrt(2.0) if dr and dc else res * 1.0 for dr, dc in _NEIGHBOURS]
-        # (node, direction) pairs that are edges, node-major: the CSR rows in order.
-        neighbours = np.stack([node[d] for d in _NEIGHBOURS], axis=1).ravel()
-        edge = np.flatnonzero(neighbours >= 0)
-        # SciPy's choice of index type: 32 bits when every index and count fits.
-        dtype = np.int32 if max(n, len(edge)) <= np.iinfo(np.int32).max else np.int64
-        indptr = np.searchsorted(edge, np.arange(n + 1) * len(_NEIGHBOURS)).astype(dtype)
-        weights = np.array(steps).take(edge % len(_NEIGHBOURS))
-        self._graph = csr_matrix((weights, neighbours.take(edge).astype(dtype), indptr), shape=(n, n))
+        steps = np.array([res * math.sqrt(2.0) if dr and dc else res * 1.0 for dr, dc in _NEIGHBOURS])
+        edge = neighbours >= 0
+        indptr = np.zeros(n + 1, dtype=dtype)
+        np.cumsum(np.count_nonzero(edge, axis=1), out=indptr[1:])
+        weights = np.broadcast_to(steps, edge.shape)[edge]
+        self._graph = csr_matrix((weights, neighbours[edge], indptr), shape=(n, n))
         self._index = index
         self._cells = cells
 
@@ -444,7 +522,7 @@ class NavGrid:
         if cell is None:
             return out
         dist, _ = self._field(cell)
-        out[self.walkable] = dist
+        out[self._numbered] = dist
         return out
 
     def path(self, start: Sequence[float], goal: Sequence[float]) -> list[XY]:
@@ -564,11 +642,15 @@ class NavGrid:
         return len(self.reach_cells(corners, reach, component, first_only=True)[0]) > 0
 
     def reach_cells(self, corners: np.ndarray, reach: float, component: int | None = None, *,
-                    first_only: bool = False) -> tuple[np.ndarray, np.ndarray]:
+                    first_only: bool = False, rank=None) -> tuple[np.ndarray, np.ndarray]:
         """Walkable cells (N, 2 as row, col) within ``reach`` metres of the rectangle
         ``corners`` and in line of sight of it (no wall between), with their distances;
         sorted nearest first. ``component`` restricts to one connected component;
-        ``first_only`` returns just the nearest such cell (faster)."""
+        ``first_only`` returns just the nearest such cell (faster). ``rank`` (a function
+        giving a value per cell of the grid, such as :meth:`distance_field`; called only
+        when there are cells within reach) returns just the cell of least finite value (of
+        equal values the nearest), the one a stable sort of the cells by value puts first;
+        cells are tested for sight in that order, so usually only one is."""
         c = np.asarray(corners, dtype=np.float64)
         lo, hi = c.min(axis=0) - reach, c.max(axis=0) + reach
         win = self.raster.window(lo[0], lo[1], hi[0], hi[1])
@@ -584,7 +666,7 @@ class NavGrid:
             nx, ny = separable
             within = np.hypot((nx - xs[0])[None, :], (ny - ys[:, 0])[:, None])
             near = sub & (within <= reach)
-            if first_only:
+            if first_only and rank is None:
                 hit = self._nearest_if_in_sight(near, within, nx, ny, xs, ys, sl)
                 if hit is not None:
                     return hit
@@ -605,6 +687,11 @@ class NavGrid:
             # Nearest first; the line-of-sight work below is done only on the candidates it
             # needs (with first_only, usually just the first chunk).
             order = near[np.argsort(dist[near], kind="stable")]
+        if rank is not None and len(order):
+            value = rank()[rr[order] + sl[0].start, cc[order] + sl[1].start]
+            by = np.argsort(value, kind="stable")
+            order = order[by[np.isfinite(value[by])]]
+            first_only = True
         if first_only:
             for k in range(0, len(order), 64):  # nearest first: usually the first chunk has one
                 chunk = order[k:k + 64]
@@ -720,35 +807,52 @@ def _padded(mask: np.ndarray) -> np.ndarray:
 def _padded_segments_clear(padded: np.ndarray, a: np.ndarray, targets: np.ndarray) -> np.ndarray:
     """:func:`_segments_clear` on the :func:`_padded` mask."""
     h, w = padded.shape[0] - 2, padded.shape[1] - 2
+    stride = w + 2
     flat = padded.ravel()
     t = np.asarray(targets, dtype=np.float64).reshape(-1, 2)
     s = np.broadcast_to(np.asarray(a, dtype=np.float64), t.shape)
+    low, high = np.minimum(s, t), np.maximum(s, t)
+    # With every end in the grid (or on its far edges), every cell looked up for a segment
+    # lies in the padded grid (its border at worst), so no index needs clipping; the cells
+    # looked up past a segment's last crossing are masked out whatever they hold.
+    inside = len(t) > 0 and low.min() >= 0.0 and high[:, 0].max() <= w and high[:, 1].max() <= h
 
     def lookup(rows: np.ndarray, cols: np.ndarray, valid: np.ndarray) -> np.ndarray:
         # Rows and columns clipped to -1..h and -1..w: the border answers false outside.
-        at = (np.minimum(np.maximum(rows, -1), h) + 1) * (w + 2) + np.minimum(np.maximum(cols, -1), w) + 1
+        at = (np.minimum(np.maximum(rows, -1), h) + 1) * stride + np.minimum(np.maximum(cols, -1), w) + 1
         return (flat.take(at) | ~valid).all(axis=-1)
 
-    one = np.ones((len(t), 1), dtype=bool)
-    ok = lookup(np.floor(s[:, 1:2]).astype(np.int64), np.floor(s[:, 0:1]).astype(np.int64), one)
-    ok &= lookup(np.floor(t[:, 1:2]).astype(np.int64), np.floor(t[:, 0:1]).astype(np.int64), one)
+    if inside:
+        ends = np.floor(np.concatenate([s, t])).astype(np.int64)
+        at = (ends[:, 1] + 1) * stride + ends[:, 0] + 1
+        ok = flat.take(at[:len(t)]) & flat.take(at[len(t):])
+    else:
+        one = np.ones((len(t), 1), dtype=bool)
+        ok = lookup(np.floor(s[:, 1:2]).astype(np.int64), np.floor(s[:, 0:1]).astype(np.int64), one)
+        ok &= lookup(np.floor(t[:, 1:2]).astype(np.int64), np.floor(t[:, 0:1]).astype(np.int64), one)
     for axis in (0, 1):  # crossings of vertical (x = k) then horizontal (y = k) grid lines
         other = 1 - axis
-        lo = np.minimum(s[:, axis], t[:, axis])
-        hi = np.maximum(s[:, axis], t[:, axis])
+        lo, hi = low[:, axis], high[:, axis]
         first = np.floor(lo) + 1.0
         count = np.maximum((np.ceil(hi) - first).astype(np.int64), 0)  # lines inside (lo, hi)
         kmax = int(count.max()) if len(count) else 0
         if kmax == 0:
             continue
-        ks = first[:, None] + np.arange(kmax)[None, :]
-        valid = np.arange(kmax)[None, :] < count[:, None]
+        steps = np.arange(kmax)
+        ks = first[:, None] + steps[None, :]
+        valid = steps[None, :] < count[:, None]
         d = t[:, axis] - s[:, axis]
         frac = (ks - s[:, axis:axis + 1]) / np.where(np.abs(d) < 1e-12, 1.0, d)[:, None]
         cross = s[:, other:other + 1] + frac * (t[:, other] - s[:, other])[:, None]
         line = np.floor(cross).astype(np.int64)
         k = ks.astype(np.int64)
-        if axis == 0:
+        if inside:
+            # The two cells either side of each crossing: (line, k - 1) and (line, k) of a
+            # vertical line, (k - 1, line) and (k, line) of a horizontal one.
+            at = (line + 1) * stride + k + 1 if axis == 0 else (k + 1) * stride + line + 1
+            before = flat.take(at - (1 if axis == 0 else stride), mode="clip")
+            ok &= ((before & flat.take(at, mode="clip")) | ~valid).all(axis=-1)
+        elif axis == 0:
             ok &= lookup(line, k - 1, valid) & lookup(line, k, valid)
         else:
             ok &= lookup(k - 1, line, valid) & lookup(k, line, valid)
