@@ -66,10 +66,11 @@ def _assert_same(a: list, b: list) -> None:
 @pytest.mark.parametrize(("env_id", "episodes_per_house"), [("Legent/PickUp-OneRoom-v0", 1),
                                                              ("Legent/ComeHere-TwoRoom-v0", 3)])
 def test_helpers_give_the_same_episodes(env_id, episodes_per_house):
-    kwargs = {"seeds": (7, 3), "unseeded": 5, "episodes_per_house": episodes_per_house}
+    # Seed 7, its unseeded successors, then seed 3 (a seed nobody predicted) and its own.
+    kwargs = {"seeds": (7, 3), "unseeded": 3, "episodes_per_house": episodes_per_house}
     inline, none = _run(env_id, **kwargs)
     helped, taken = _run(env_id, helpers=2, **kwargs)
-    assert none == 0 and taken >= 6  # most unseeded resets took an episode a helper made
+    assert none == 0 and taken >= 4  # most unseeded resets took an episode a helper made
     _assert_same(inline, helped)
 
 
@@ -171,6 +172,7 @@ def _gone(pids, seconds: float = 30.0) -> bool:
     return True
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("how", ["exit", "killed"])
 def test_no_helper_outlives_its_env_process(how):
     # An env left open at interpreter exit, or whose process is killed: its helpers go too.
