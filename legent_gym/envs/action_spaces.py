@@ -60,6 +60,7 @@ from legent_gym.agent.actions import (
     format_action,
     parse_actions,
 )
+from legent_gym.envs.text_space import VectorSafeText
 
 __all__ = [
     "DICT_KEYS",
@@ -129,9 +130,11 @@ def speech_space(max_length: int = 500) -> spaces.Text:
     """What an agent may say: 0..``max_length`` characters of :data:`SPEECH_CHARSET`.
 
     Built explicitly because Gymnasium's default ``Text`` charset is alphanumeric only
-    (no space, no punctuation: not even "It's on the sofa." would fit).
+    (no space, no punctuation: not even "It's on the sofa." would fit). A
+    :class:`~legent_gym.envs.text_space.VectorSafeText`, so that observations of it come
+    back right through Gymnasium's async vector env.
     """
-    return spaces.Text(min_length=0, max_length=max_length, charset=SPEECH_CHARSET)
+    return VectorSafeText(min_length=0, max_length=max_length, charset=SPEECH_CHARSET)
 
 
 def text_action_space(max_length: int = 1000) -> spaces.Text:
@@ -141,7 +144,7 @@ def text_action_space(max_length: int = 1000) -> spaces.Text:
     :func:`~legent_gym.agent.actions.parse_actions`'s business, and its error message is
     what an environment reports back.
     """
-    return spaces.Text(min_length=0, max_length=max_length, charset=TEXT_ACTION_CHARSET)
+    return VectorSafeText(min_length=0, max_length=max_length, charset=TEXT_ACTION_CHARSET)
 
 
 def continuous_action_space(limits: ActionLimits | None = None) -> spaces.Dict:

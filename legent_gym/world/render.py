@@ -26,6 +26,7 @@ Every call returns a new array (Gymnasium's checker requires it).
 from __future__ import annotations
 
 import copy
+import os
 import threading
 from dataclasses import dataclass
 from typing import Literal
@@ -65,15 +66,48 @@ FREE_FOVY = 45.0
 
 _local = threading.local()
 
+#: Whether this process made an OpenGL context here, and whether it was forked from one
+#: that had (see :func:`_shared_gl_context`).
+_made_gl = False
+_forked_after_gl = False
+#: GL objects of renderers inherited through a fork, kept so that they are never freed in
+#: the child (freeing them calls into the inherited driver).
+_inherited: list = []
+
+FORK_AFTER_GL = (
+    "this process was forked from one that had already rendered with OpenGL: the graphics driver's state "
+    "came across the fork without its threads (llvmpipe's rasterisers), so rendering here would hang. Start "
+    "worker processes with 'forkserver' or 'spawn' rather than 'fork': "
+    "gym.make_vec(..., vectorization_mode='async', vector_kwargs={'context': 'forkserver'}), "
+    "SubprocVecEnv(..., start_method='forkserver'), or multiprocessing.set_start_method('forkserver') "
+    "under `if __name__ == '__main__':`; or make the vector env before rendering in the parent"
+)
+
+
+def _note_fork() -> None:
+    global _forked_after_gl
+    _forked_after_gl = _forked_after_gl or _made_gl
+
+
+os.register_at_fork(after_in_child=_note_fork)
+
 
 def _shared_gl_context(width: int, height: int):
-    """The process's (thread's) OpenGL context, made once and made current."""
+    """The process's (thread's) OpenGL context, made once and made current.
+
+    Raises instead of hanging in a child forked after its parent rendered: such a child
+    inherits the OpenGL driver's state but not its threads, so its first frame would wait
+    forever for them (with or without a context of its own)."""
+    global _made_gl
+    if _forked_after_gl:
+        raise RuntimeError(FORK_AFTER_GL)
     ctx = getattr(_local, "context", None)
     if ctx is None:
         from mujoco import gl_context
 
         if gl_context.GLContext is None:
             raise RuntimeError("no OpenGL backend: set MUJOCO_GL to egl or osmesa on a headless machine")
+        _made_gl = True
         ctx = gl_context.GLContext(max(width, 64), max(height, 64))
         gl_backend.track_context("gl", ctx)
         _local.context = ctx
@@ -186,7 +220,7 @@ def _take_spare(key: tuple | None, model: mujoco.MjModel):
 def free_spare() -> None:
     """Free the context and scene kept for the next renderer of this thread, if any."""
     spare = getattr(_local, "spare", None)
-    if spare is not None:
+    if spare is not None and not _forked_after_gl:
         _local.spare = None
         _shared_gl_context(64, 64)
         spare[1].free()
@@ -274,11 +308,14 @@ class Renderer:
         """Release the renderer's GL resources (kept for the next renderer of this thread:
         see :func:`free_spare`)."""
         if self._context is not None:
-            try:
-                _shared_gl_context(self.width, self.height)
-                _keep_spare(self._key, self._context, self._scene)
-            except Exception:  # the GL context may already be gone at interpreter exit
-                pass
+            if _forked_after_gl:
+                _inherited.append((self._context, self._scene))
+            else:
+                try:
+                    _shared_gl_context(self.width, self.height)
+                    _keep_spare(self._key, self._context, self._scene)
+                except Exception:  # the GL context may already be gone at interpreter exit
+                    pass
             if getattr(_local, "bound", None) is self._context:
                 _local.bound = None
             self._context = None

@@ -19,6 +19,7 @@ import numpy as np
 from gymnasium import spaces
 
 from legent_gym.envs.action_spaces import speech_space
+from legent_gym.envs.text_space import VectorSafeText
 
 IMAGE_TOKEN = "<image>"
 
@@ -38,8 +39,8 @@ class InterleavedHistory(gym.Wrapper):
         self.observation_space = spaces.Dict({
             **source.spaces,
             "history_rgb": spaces.Box(0, 255, self._history_shape, np.uint8),
-            "history_text": spaces.Text(max_length=max_text, min_length=0,
-                                        charset=speech_space().character_set | set("<>\n")),
+            "history_text": VectorSafeText(max_length=max_text, min_length=0,
+                                           charset=speech_space().character_set | set("<>\n")),
         })
         # (frame, the action taken from it); the newest frame has no action yet.
         self._steps: deque[list] = deque(maxlen=k)
