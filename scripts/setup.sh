@@ -49,7 +49,7 @@ fi
 # torch is pinned (a bare `torch` pulls gigabytes of CUDA packages); install it first so
 # that no other requirement drags in another build.
 case ",$extras," in
-  *,baselines,*|*,rl,*|*,all,*) .venv/bin/python -m pip install -q "torch==2.13.0" ;;
+  *,baselines,*|*,rl,*|*,clients,*|*,all,*) .venv/bin/python -m pip install -q "torch==2.13.0" ;;
 esac
 .venv/bin/python -m pip install -q -e ".[$extras]"
 echo "legent_gym is set up in .venv (extras: $extras)"

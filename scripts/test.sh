@@ -2,7 +2,7 @@
 # Set everything up, lint, type-check, then run the default test suite (slow acceptance tests: add `-m slow`).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-LEGENT_EXTRAS="${LEGENT_EXTRAS:-dev,rl,multiagent,data,baselines,scale,play,vlm}" bash scripts/setup.sh
+LEGENT_EXTRAS="${LEGENT_EXTRAS:-dev,rl,multiagent,data,baselines,scale,play,vlm,clients}" bash scripts/setup.sh
 .venv/bin/ruff check legent_gym tests benchmarks baselines examples
 .venv/bin/mypy legent_gym
 exec .venv/bin/python -m pytest -n 2 -q "$@"

@@ -3,6 +3,7 @@ between the two, scripted users, the single-agent wrapper against the single-age
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 import warnings
@@ -84,7 +85,7 @@ def test_bad_arguments_are_named():
     with pytest.raises(ValueError, match="max_cycles"):
         ma.parallel_env(max_cycles=0)
     with pytest.raises(ValueError, match="render_mode"):
-        ma.parallel_env(render_mode="human")
+        ma.parallel_env(render_mode="ansi")
     with pytest.raises(ValueError, match="unknown task"):
         ma.parallel_env(task="Dance")
 
@@ -106,16 +107,51 @@ def test_seeds(env_id):
     parallel_seed_test(lambda: _parallel(env_id), num_cycles=CYCLES)
 
 
-@pytest.mark.parametrize("env_id", IDS)
-def test_render_and_max_cycles(env_id):
-    # render_test first makes the env with render_mode="human" and never renders it; a
-    # headless env has no human mode (GLFW would abort the process), so that one probe
-    # gets None. Every mode the env lists is then rendered and checked.
-    def make(render_mode=None):
-        return _aec(env_id, render_size=64, render_mode=None if render_mode == "human" else render_mode)
+@pytest.fixture
+def _no_window(monkeypatch):
+    """Human mode on SDL's dummy driver even where the tests run with a display: no window
+    and no pacing at render_fps."""
+    monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
 
-    render_test(make)
+
+@pytest.mark.parametrize("env_id", IDS)
+def test_render_and_max_cycles(env_id, _no_window):
+    # A plain factory: render_test makes the env with render_mode="human" first, then renders
+    # every mode the env lists.
+    render_test(functools.partial(_aec, env_id, render_size=64))
     max_cycles_test(_seeded_module(env_id))
+
+
+def test_render_test_with_the_registered_factory(_no_window):
+    render_test(ma.env_module("Legent/ComeHere-OneRoom-v0").env)
+
+
+def test_human_mode_shows_the_rgb_array_frame(monkeypatch):
+    """Without a display, human mode warns and draws into SDL's dummy driver: the window
+    holds exactly the frame rgb_array mode returns, at every step."""
+    pygame = pytest.importorskip("pygame")
+    for name in ("DISPLAY", "WAYLAND_DISPLAY"):
+        monkeypatch.delenv(name, raising=False)
+    monkeypatch.setenv("SDL_VIDEODRIVER", "")  # restored (unset) after the test
+    monkeypatch.delenv("SDL_VIDEODRIVER")
+    human = ma.parallel_env(render_mode="human", render_size=64, **SMALL)
+    frames = ma.parallel_env(render_mode="rgb_array", render_size=64, **SMALL)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        human.reset(seed=0)
+    assert any("dummy video driver" in str(w.message) for w in caught)
+    frames.reset(seed=0)
+    assert pygame.display.get_driver() == "dummy"
+    for _ in range(2):
+        shown = pygame.surfarray.array3d(pygame.display.get_surface()).swapaxes(0, 1)
+        np.testing.assert_array_equal(shown, frames.render())
+        assert human.render() is None
+        actions = {"user": "rotate_right(30)", "agent": "move_forward(0.5), rotate_right(-40)"}
+        human.step(actions)
+        frames.step(actions)
+    human.close()
+    assert not pygame.display.get_init()
+    frames.close()
 
 
 def _seeded_module(env_id):

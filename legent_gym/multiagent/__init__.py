@@ -5,6 +5,7 @@
 * :mod:`~legent_gym.multiagent.user_policies`: scripted users (stand still, wander, walk
   away, come towards the agent, repeat the instruction);
 * :mod:`~legent_gym.multiagent.single_agent`: one side as a Gymnasium env, the other fixed;
+* :mod:`~legent_gym.multiagent.sb3`: :func:`for_sb3`, array spaces for SuperSuit and stable-baselines3;
 * :mod:`~legent_gym.multiagent.registration`: the ids in PettingZoo's registry (done on import).
 """
 
@@ -23,6 +24,7 @@ from legent_gym.multiagent.household import (  # noqa: E402
     raw_env,
 )
 from legent_gym.multiagent.registration import MULTIAGENT_ENV_IDS, register_multiagent_envs
+from legent_gym.multiagent.sb3 import SB3ParallelWrapper, for_sb3
 from legent_gym.multiagent.single_agent import SingleAgentEnv, make_single_agent
 from legent_gym.multiagent.user_policies import (
     USER_POLICIES,
@@ -45,6 +47,7 @@ __all__ = [
     "ComeTowards",
     "HouseholdParallelEnv",
     "RepeatInstruction",
+    "SB3ParallelWrapper",
     "SingleAgentEnv",
     "StandStill",
     "UserPolicy",
@@ -52,6 +55,7 @@ __all__ = [
     "Wander",
     "env",
     "env_module",
+    "for_sb3",
     "make_policy",
     "make_single_agent",
     "parallel_env",

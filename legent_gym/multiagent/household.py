@@ -35,6 +35,7 @@ from pettingzoo.utils.conversions import parallel_to_aec_wrapper
 from pettingzoo.utils.wrappers import OrderEnforcingWrapper
 
 from legent_gym.agent.actions import (
+    ActionLimits,
     ActionParseError,
     Finish,
     Grab,
@@ -47,6 +48,7 @@ from legent_gym.agent.body import Body, Outcome
 from legent_gym.envs.action_spaces import SPEECH_CHARSET, parse_step
 from legent_gym.envs.episode import Episode
 from legent_gym.envs.household import MAX_TEXT, HouseholdEnv
+from legent_gym.multiagent.window import Window
 from legent_gym.tasks.base import MAX_ACTIONS
 from legent_gym.world.builder import GROUP_COLLISION, World
 from legent_gym.world.render import FreeCamera, Renderer
@@ -119,7 +121,9 @@ class HouseholdParallelEnv(ParallelEnv):
     * ``rewards``: ``"team"`` (default) or ``"per_agent"`` (see Rewards).
     * ``instruction_from_user``: the user's first words become the agent's instruction.
     * ``distance_info``: ``info["distance_to_goal"]`` every step (default False, see Info).
-    * ``render_mode``: ``"rgb_array"``, a third-person view of both.
+    * ``render_mode``: ``"rgb_array"``, a third-person view of both; ``"human"``, the same
+      view shown in a pygame window at every reset and step (without a display it opens on
+      SDL's dummy driver, with a warning, and shows nothing).
     * ``render_size``: the ``render()`` image's side in pixels (256).
     * every other keyword goes to ``HouseholdEnv`` (``width``, ``height``, ``fovy``,
       ``camera``, ``reward``, ``scene``, ``house_seed``, ``house_pool``, ``depth``,
@@ -127,7 +131,7 @@ class HouseholdParallelEnv(ParallelEnv):
       field of view.
     """
 
-    metadata: dict[str, Any] = {"name": "legent_household_v0", "render_modes": ["rgb_array"], "render_fps": 4,
+    metadata: dict[str, Any] = {"name": "legent_household_v0", "render_modes": ["human", "rgb_array"], "render_fps": 4,
                 "is_parallelizable": True}
 
     def __init__(self, task: str = "ComeHere", layout: str = "OneRoom", action_type: str = "text", *,
@@ -169,6 +173,8 @@ class HouseholdParallelEnv(ParallelEnv):
         self._last_distance: float | None = None
         self._view_renderer: Renderer | None = None
         self._view_world: World | None = None
+        self._window = Window(f"legent_gym {task}-{layout}", self.metadata["render_fps"]) \
+            if render_mode == "human" else None
 
     # -- spaces --------------------------------------------------------------------------
     def observation_space(self, agent: str):
@@ -182,6 +188,11 @@ class HouseholdParallelEnv(ParallelEnv):
     def episode(self) -> Episode:
         """The episode engine both sides act in (the single-agent env's)."""
         return self.core.episode
+
+    @property
+    def limits(self) -> ActionLimits:
+        """The most either side's one action may move, turn, tilt and say (metres, degrees)."""
+        return self.core.episode.limits
 
     # -- PettingZoo API ------------------------------------------------------------------
     def reset(self, seed: int | None = None, options: dict | None = None):
@@ -200,6 +211,8 @@ class HouseholdParallelEnv(ParallelEnv):
         observations = {USER: self._user_observation(), AGENT: self._agent_observation(agent_obs)}
         user_info = self._user_info(agent_info, [], None)
         user_info["attempts"] = agent_info["attempts"]
+        if self._window is not None:
+            self.render()
         return observations, {USER: user_info, AGENT: agent_info}
 
     def step(self, actions: dict[str, Any]):
@@ -244,6 +257,8 @@ class HouseholdParallelEnv(ParallelEnv):
         truncations = {USER: truncated, AGENT: truncated}
         if terminated or truncated:
             self.agents = []
+        if self._window is not None:
+            self.render()
         return observations, rewards, terminations, truncations, {USER: user_info, AGENT: agent_info}
 
     # -- the user's turn -----------------------------------------------------------------
@@ -347,9 +362,15 @@ class HouseholdParallelEnv(ParallelEnv):
         side = math.degrees(math.atan2(u.y - a.y, u.x - a.x)) - 90.0  # look across the line joining them
         camera = FreeCamera(((a.x + u.x) / 2, (a.y + u.y) / 2, 0.8), max(4.0, 0.9 * gap + 2.5),
                             azimuth=side, elevation=-55.0)
-        return renderer.rgb(camera)
+        frame = renderer.rgb(camera)
+        if self._window is not None:
+            self._window.show(frame)
+            return None
+        return frame
 
     def close(self):
+        if self._window is not None:
+            self._window.close()
         if self._view_renderer is not None:
             self._view_renderer.close()
         self._view_renderer = self._view_world = None

@@ -2,6 +2,6 @@
 
 from legent_gym.wrappers.expert import ExpertInfo, ExpertPolicy
 from legent_gym.wrappers.history import InterleavedHistory
-from legent_gym.wrappers.sb3 import FlatActions, InstructionTokens, tokenize
+from legent_gym.wrappers.sb3 import FlatActions, InstructionTokens, for_sb3, tokenize
 
-__all__ = ["ExpertInfo", "ExpertPolicy", "FlatActions", "InstructionTokens", "InterleavedHistory", "tokenize"]
+__all__ = ["ExpertInfo", "ExpertPolicy", "FlatActions", "InstructionTokens", "InterleavedHistory", "for_sb3", "tokenize"]

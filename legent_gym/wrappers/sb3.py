@@ -5,8 +5,13 @@ into a fixed-length integer Box (a hashing word tokenizer: stable across process
 vocabulary file), and :class:`FlatActions` offers a flat ``Box(4)`` in [-1, 1] mapped onto
 the env's actions: move forward, turn, tilt, and interact (when the fourth value > 0.5).
 
-    env = FlatActions(InstructionTokens(gym.make("Legent/ComeHere-OneRoom-v0", reward="dense")))
+    env = for_sb3(gym.make("Legent/ComeHere-OneRoom-v0", reward="dense"))  # the two, in this order
     PPO("MultiInputPolicy", env).learn(10_000)
+
+``stable_baselines3.common.env_checker.check_env`` passes on :func:`for_sb3`'s stack (not on
+the raw env, whose ``Text`` observations are no arrays, nor on ``InstructionTokens`` alone
+with text actions). The PettingZoo envs have the same stack in
+:func:`legent_gym.multiagent.for_sb3`.
 """
 
 from __future__ import annotations
@@ -40,20 +45,27 @@ class InstructionTokens(gym.ObservationWrapper):
         source = env.observation_space
         if not isinstance(source, spaces.Dict):
             raise TypeError(f"InstructionTokens needs a Dict observation space, got {source}")
-        obs_space: dict[str, spaces.Space] = {}
-        for key, space in source.spaces.items():
-            if isinstance(space, spaces.Text):
-                obs_space[key] = spaces.Box(0, vocab_size - 1, (max_tokens,), np.int64)
-            else:
-                obs_space[key] = space
-        self.observation_space = spaces.Dict(obs_space)
-        self._text_keys = [k for k, s in source.spaces.items() if isinstance(s, spaces.Text)]
+        self.source_space: spaces.Dict = source
+        self.observation_space = token_space(source, vocab_size, max_tokens)
 
     def observation(self, observation):
-        out = dict(observation)
-        for key in self._text_keys:
-            out[key] = tokenize(observation[key], self.vocab_size, self.max_tokens)
-        return out
+        return tokenize_texts(observation, self.source_space, self.vocab_size, self.max_tokens)
+
+
+def token_space(source: spaces.Dict, vocab_size: int, max_tokens: int) -> spaces.Dict:
+    """``source`` with every ``Text`` entry as a Box of ``max_tokens`` word ids (what
+    :class:`InstructionTokens` observes)."""
+    return spaces.Dict({key: spaces.Box(0, vocab_size - 1, (max_tokens,), np.int64)
+                        if isinstance(space, spaces.Text) else space for key, space in source.spaces.items()})
+
+
+def tokenize_texts(observation: dict, source: spaces.Dict, vocab_size: int, max_tokens: int) -> dict:
+    """A copy of ``observation`` with the entries ``source`` holds as ``Text`` tokenized."""
+    out = dict(observation)
+    for key, space in source.spaces.items():
+        if isinstance(space, spaces.Text):
+            out[key] = tokenize(observation[key], vocab_size, max_tokens)
+    return out
 
 
 class FlatActions(gym.ActionWrapper):
@@ -87,3 +99,13 @@ def flat_action_text(action, limits: ActionLimits) -> str:
     if a[3] > 0.5:
         parts.append("interact()")
     return ", ".join(parts)
+
+
+def for_sb3(env: gym.Env, vocab_size: int = 1024, max_tokens: int = 16) -> FlatActions:
+    """The stack stable-baselines3 takes: ``FlatActions(InstructionTokens(env))``.
+
+    Observations: a Dict of Boxes (``rgb`` and the images as they are, ``instruction`` and
+    ``message`` as word ids), for ``"MultiInputPolicy"``; actions: a ``Box(-1, 1, (4,))``.
+    SB3's ``check_env`` passes on it; RL Baselines3 Zoo names it as ``env_wrapper``
+    (``legent_gym/hyperparams/ppo.yml``)."""
+    return FlatActions(InstructionTokens(env, vocab_size, max_tokens))
