@@ -307,7 +307,10 @@ class EpisodeFactory:
         for job in jobs.values():
             helper = self._helper_for(job[0])
             # The helper removes the files of episodes taken or dropped (not the env's time).
-            helper.conn.send({"seeds": job, "known": known, "remove": self._spent})
+            try:
+                helper.conn.send({"seeds": job, "known": known, "remove": self._spent})
+            except OSError as err:
+                raise helper.died() from err
             self._spent = []
             helper.outstanding.extend(job)
             for seed in job:

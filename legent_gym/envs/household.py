@@ -133,9 +133,9 @@ class HouseholdEnv(gym.Env):
     * ``helpers``: child processes that prepare the coming episodes (house, spawns, goal)
       while this env steps, so that a reset only loads one (default 0: none; the same
       episodes either way; stopped by ``close()``; not used with ``scene`` or
-      ``house_pool``; see :mod:`legent_gym.envs.factory`). A helper plays an episode of a
-      new house in about three times the CPU the env spends stepping through it, so give
-      2-3 per env where cores are free.
+      ``house_pool``; see :mod:`legent_gym.envs.factory`). An episode of a new house costs
+      a helper more CPU than the env spends stepping through it (generation and compile),
+      so give one or two per env where cores are free.
     * ``depth``, ``segmentation``: add these images to the observation.
     * ``strict``: raise on an invalid action instead of a no-op step.
     * ``reach``: interaction distance in metres (1.5).
