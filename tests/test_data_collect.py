@@ -60,8 +60,8 @@ def _check_whole(out, expected: int | None = None) -> int:
     trajectories = load_trajectories(out / "legent")
     assert len(trajectories) <= len(episodes)  # the aggregates may lag, never lead
     for trajectory, episode in zip(trajectories, episodes):
-        steps = trajectory["interactions"][1]["trajectory"]
-        assert len(steps) == len(episode.actions) and episode.infos["success"][-1]
+        steps = trajectory["interactions"][1]["trajectory"]  # and LEGENT's closing finish() on the last view
+        assert len(steps) == len(episode.actions) + 1 and episode.infos["success"][-1]
         for n, step in enumerate(steps):
             assert np.array_equal(read_png(out / "legent" / step["image"]), episode.observations["rgb"][n])
     seeds = [m["seed"] for m in dataset.storage.get_episode_metadata(range(dataset.total_episodes))]

@@ -70,19 +70,22 @@ def test_legent_json_loads_and_its_images_equal_the_recorded_observations(collec
         assert on_disk == trajectory
         human, agent = trajectory["interactions"]
         assert human == {"from": "human", "text": episode.observations["instruction"][0]}
-        steps = agent["trajectory"]
+        *steps, closing = agent["trajectory"]  # LEGENT's closing finish() of a successful Come Here
         assert agent["from"] == "agent" and len(steps) == len(episode.actions)
-        for n, step in enumerate(steps):
+        assert closing == {"image": f"{trajectory['id']}/{len(steps):04d}.png", "action": "finish()",
+                           "after_end": True, "goal_view": closing["goal_view"]}
+        for n, step in enumerate(agent["trajectory"]):
             assert step["image"] == f"{trajectory['id']}/{n:04d}.png"
             assert np.array_equal(read_png(collected / "legent" / step["image"]), episode.observations["rgb"][n])
+        for n, step in enumerate(steps):
             assert parse_actions(step["action"]) == parse_actions(episode.actions[n])
-        assert not (collected / "legent" / trajectory["id"] / f"{len(steps):04d}.png").exists()
+        assert not (collected / "legent" / trajectory["id"] / f"{len(steps) + 1:04d}.png").exists()
 
 
 def test_interleaved_jsonl_follows_the_contract(collected):
     trajectories = load_trajectories(collected / "legent")
     lines = load_interleaved(collected / "legent")
-    assert len(lines) == sum(len(t["interactions"][1]["trajectory"]) for t in trajectories)
+    assert len(lines) == sum(len(t["interactions"][1]["trajectory"]) - 1 for t in trajectories)  # no closing finish()
     first = trajectories[0]
     line = lines[0]
     assert set(line) == {"trajectory", "step", "instruction", "images", "history", "prompt", "action",
@@ -153,7 +156,8 @@ def test_continuous_actions_round_trip(tmp_path):
         obs, *_ = env.step(action)
         assert np.array_equal(obs["rgb"], episode.observations["rgb"][n + 1])
     steps = load_trajectories(tmp_path / "legent")[0]["interactions"][1]["trajectory"]
-    assert len(steps) == len(episode.rewards) and parse_actions(steps[0]["action"])  # exported as action code
+    assert steps[-1]["after_end"] and len(steps) == len(episode.rewards) + 1  # LEGENT's closing finish()
+    assert parse_actions(steps[0]["action"])  # exported as action code
 
 
 def test_collect_errors_are_clear(tmp_path, collected, capsys):

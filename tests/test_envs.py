@@ -232,8 +232,8 @@ def test_dense_reward_is_progress_along_the_geodesic(env_id):
         before = after
     sparse = gym.make(env_id, distance_info=False, **SMALL)
     _, info = sparse.reset(seed=5)
-    assert info["distance_to_goal"] is None
-    assert sparse.step("move_forward(0.5)")[4]["distance_to_goal"] is None
+    assert info["distance_to_goal"] == -1.0
+    assert sparse.step("move_forward(0.5)")[4]["distance_to_goal"] == -1.0
 
 
 def test_where_is_asks_legents_objects_on_legents_receptacles():

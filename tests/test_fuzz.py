@@ -426,10 +426,10 @@ def check_env_step(action):
     _, reward, terminated, truncated, info = env.step(action)
     valid = isinstance(action, str) and _check_parse(action) is not None
     if not valid:
-        assert info["action_error"] and info["action_results"] == [], info
+        assert info["action_error"] and info["action_results"] == "" and not info["action_ok"], info
     else:
-        assert "action_error" not in info
-        assert all(isinstance(r["ok"], bool) for r in info["action_results"])
+        assert info["action_error"] == ""
+        assert isinstance(info["action_ok"], bool) and isinstance(info["action_results"], str)
     assert math.isfinite(reward)
     if terminated or truncated:
         env.reset()

@@ -7,9 +7,13 @@ Under the export root (``OUT/legent``):
   {"from": "agent", "trajectory": [{"image": "<id>/0000.png", "action": "..."}, ...]}]}``
   plus our own fields (``env_id``, ``seed``, ``attempt``, ``task``, ...); a step may also
   hold ``expert_action`` (the label of a perturbed or DAgger step) and ``goal_view`` (the
-  privileged visibility, bearing and distance of the task's goal from that view);
+  privileged visibility, bearing and distance of the task's goal from that view). As in
+  LEGENT, a successful trajectory of every task but Where Is ends with ``finish()`` on the
+  final view, a step marked ``"after_end": true`` (the env ended the episode on success
+  before it; :func:`closes_with_finish`);
+* ``<id>/task_setting.json``: the task as LEGENT's scripts read it (:func:`task_setting_record`);
 * ``trajectories.json``: the list of all trajectories (LEGENT's aggregated file);
-* ``interleaved.jsonl``: one line per step (see :func:`interleaved_records`).
+* ``interleaved.jsonl``: one line per step the env ran (see :func:`interleaved_records`).
 
 A trajectory folder is written under a temporary name and renamed into place, so it is
 whole or absent. The two aggregate files are derived from the folders and rewritten
@@ -32,6 +36,7 @@ from legent_gym.atomic import atomic_write_bytes
 from legent_gym.data.rollout import Episode
 
 TRAJECTORY_FILE = "trajectory.json"
+TASK_SETTING_FILE = "task_setting.json"
 AGGREGATE_FILE = "trajectories.json"
 INTERLEAVED_FILE = "interleaved.jsonl"
 #: The paper's model reads the last 6 observations.
@@ -58,6 +63,28 @@ def read_png(path: str | os.PathLike) -> np.ndarray:
     return np.ascontiguousarray(bgr[..., ::-1])
 
 
+def legent_task_type(instruction: str) -> str:
+    """The task type as LEGENT's scripts read it: the instruction's first word, lower-cased
+    (``come``, ``where``; ``task_setting["task"].split(" ")[0].lower()``)."""
+    return instruction.split(" ")[0].lower()
+
+
+def closes_with_finish(episode: Episode) -> bool:
+    """Whether the trajectory ends with LEGENT's closing ``finish()``: LEGENT's trajectory
+    collection appends it to a successful trajectory of every task but Where Is (whose last
+    action is the answer), where the last action is not a ``finish()`` already."""
+    last = episode.action_texts[-1] if episode.action_texts else ""
+    return (episode.success and legent_task_type(episode.paper_instruction) != "where"
+            and not last.endswith("finish()"))
+
+
+def _task(episode: Episode) -> dict[str, Any]:
+    task = dict(episode.task)
+    if task.get("answers"):  # WhereIs: LEGENT's ``answer`` (what its success test looks for)
+        task["answer"] = task["answers"][0]
+    return task
+
+
 def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
     """The ``trajectory.json`` of an episode."""
     steps: list[dict[str, Any]] = [{"image": f"{traj_id}/{n:04d}.png", "action": text}
@@ -68,6 +95,11 @@ def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
     for step, view in zip(steps, episode.goal_views):
         if view is not None:  # privileged labels of the view (ExpertInfo's info["goal_view"])
             step["goal_view"] = view
+    if closes_with_finish(episode):
+        n = episode.steps
+        steps.append({"image": f"{traj_id}/{n:04d}.png", "action": "finish()", "after_end": True})
+        if episode.goal_views[n] is not None:
+            steps[-1]["goal_view"] = episode.goal_views[n]
     return {
         "id": traj_id,
         "interactions": [
@@ -77,13 +109,29 @@ def trajectory_record(episode: Episode, traj_id: str) -> dict[str, Any]:
         "env_id": episode.env_id,
         "seed": episode.seed,
         "attempt": episode.attempt,
-        "task": episode.task,
+        "task": _task(episode),
         "house_seed": episode.house_seed,
         "scene_name": episode.scene_name,
         "success": episode.success,
         "steps": episode.steps,
         "return": float(sum(episode.rewards)),
     }
+
+
+def task_setting_record(episode: Episode) -> dict[str, Any]:
+    """The ``task_setting.json`` of an episode: LEGENT's fields where it has them, ``task``
+    (the goal in the paper's words, whose first word LEGENT's scripts read as the task
+    type) and, for Where Is, ``answer`` (the word LEGENT's success test looks for in the
+    answer); then ours: ``instruction`` (what the user said: the trajectory's ``text``),
+    the task (``task_name``, goal ids, ``answers``), and how to play it again."""
+    task = _task(episode)
+    record: dict[str, Any] = {"task": episode.paper_instruction}
+    if "answer" in task:
+        record["answer"] = task["answer"]
+    record.update(instruction=episode.instruction, task_name=task.pop("name", None), **task,
+                  env_id=episode.env_id, seed=episode.seed, house_seed=episode.house_seed,
+                  scene_name=episode.scene_name)
+    return record
 
 
 def build_prompt(instruction: str, history: Sequence[str]) -> str:
@@ -102,11 +150,12 @@ def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW
 
     A labelled step (recovery data, ``collect --perturb``; DAgger rollouts,
     ``baselines.vla.dagger``) has the expert's action as its target (``action``) and what
-    was executed in ``executed``; the histories always hold the executed actions."""
+    was executed in ``executed``; the histories always hold the executed actions. LEGENT's
+    closing ``finish()`` (``after_end``) is no sample: the env had ended the episode."""
     if window < 1:
         raise ValueError(f"the interleaved window must be >= 1 image, got {window}")
     instruction = trajectory["interactions"][0]["text"]
-    steps = trajectory["interactions"][1]["trajectory"]
+    steps = [s for s in trajectory["interactions"][1]["trajectory"] if not s.get("after_end")]
     task = trajectory.get("task", {})
     task_name = task.get("name") if isinstance(task, dict) else task
     records = []
@@ -135,8 +184,11 @@ def interleaved_records(trajectory: dict[str, Any], window: int = DEFAULT_WINDOW
 
 
 def episode_pngs(episode: Episode) -> list[bytes]:
-    """The views before each action, PNG-encoded (no image after the last action, as in LEGENT)."""
-    return [encode_png(obs["rgb"]) for obs in episode.observations[:episode.steps]]
+    """The views of the trajectory's steps, PNG-encoded: before each action, and the final
+    view where LEGENT's closing ``finish()`` follows (:func:`closes_with_finish`; else, as
+    in LEGENT, no image after the last action)."""
+    views = episode.steps + (1 if closes_with_finish(episode) else 0)
+    return [encode_png(obs["rgb"]) for obs in episode.observations[:views]]
 
 
 class LegentWriter:
@@ -179,18 +231,20 @@ class LegentWriter:
 
     def write(self, episode: Episode, index: int, pngs: Sequence[bytes]) -> dict[str, Any]:
         """Write trajectory ``index`` (whole or not at all); returns its record."""
-        if len(pngs) != episode.steps:
-            raise ValueError(f"{len(pngs)} images for {episode.steps} actions")
         if index != len(self._trajectories):
             raise ValueError(f"trajectory {index} is not the next one ({len(self._trajectories)} written)")
         traj_id = self.trajectory_id(index)
         record = trajectory_record(episode, traj_id)
+        steps = len(record["interactions"][1]["trajectory"])
+        if len(pngs) != steps:
+            raise ValueError(f"{len(pngs)} images for {steps} steps ({episode.steps} actions)")
         temp = self.root / f".{traj_id}.tmp"
         shutil.rmtree(temp, ignore_errors=True)
         temp.mkdir(parents=True)
         for n, png in enumerate(pngs):
             (temp / f"{n:04d}.png").write_bytes(png)
         (temp / TRAJECTORY_FILE).write_text(json.dumps(record, indent=1))
+        (temp / TASK_SETTING_FILE).write_text(json.dumps(task_setting_record(episode), indent=1))
         final = self.root / traj_id
         if final.exists():  # written before a crash but never counted
             shutil.rmtree(final)

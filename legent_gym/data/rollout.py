@@ -107,6 +107,8 @@ class Episode:
     success: bool = False
     house_seed: int | None = None
     scene_name: str | None = None
+    #: The goal in the paper's template words (LEGENT's ``task``; see :func:`begin_episode`).
+    paper_instruction: str = ""
 
     @property
     def steps(self) -> int:
@@ -116,6 +118,28 @@ class Episode:
     def path(self) -> list[tuple[float, float]]:
         """The agent's positions, from the start to the end."""
         return [(float(i["agent_pose"][0]), float(i["agent_pose"][1])) for i in self.infos]
+
+
+def begin_episode(env: gym.Env, obs: dict, info: dict, *, attempt: int, seed: int, env_id: str) -> Episode:
+    """The record of an episode ``env`` was just reset to (``obs``, ``info``), with its first
+    observation. The goal comes from the env's episode engine (``env.unwrapped.episode``):
+    ``task`` is the task's name and the goal's own description (None for an id it has not,
+    WhereIs's ``answers`` a list, where ``info["task"]`` has -1 and one string), with the
+    goal in the paper's words (:func:`~legent_gym.tasks.household.paper_instruction`)."""
+    from legent_gym.tasks.household import paper_instruction
+
+    engine = getattr(env.unwrapped, "episode", None)  # HouseholdEnv's, SingleAgentEnv's
+    if engine is None:
+        raise TypeError(f"recording needs a legent_gym env (one with an episode engine), got {env.unwrapped}")
+    goal = engine.require_goal()
+    episode = Episode(attempt=attempt, seed=seed, env_id=env_id, instruction=str(obs["instruction"]),
+                      task={"name": info["task"]["name"], **goal.describe()}, house_seed=engine.house_seed,
+                      scene_name=info.get("scene_name"),
+                      paper_instruction=paper_instruction(engine.task, goal, engine.require()))
+    episode.observations.append(obs)
+    episode.infos.append(recorded_info(info))
+    episode.goal_views.append(info.get("goal_view"))
+    return episode
 
 
 def _action_text(action: Any, info: dict) -> str:
@@ -168,12 +192,7 @@ def record_episode(env: gym.Env, policy: Policy, *, seed: int, attempt: int, env
         raise ValueError(f"perturb must be in [0, 1), got {perturb}")
     rng = _perturbation_rng(seed) if perturb > 0 else None
     obs, info = env.reset(seed=seed)
-    task = dict(info.get("task", {}))
-    episode = Episode(attempt=attempt, seed=seed, env_id=env_id, instruction=str(obs["instruction"]),
-                      task=task, house_seed=info.get("house_seed"), scene_name=info.get("scene_name"))
-    episode.observations.append(obs)
-    episode.infos.append(recorded_info(info))
-    episode.goal_views.append(info.get("goal_view"))
+    episode = begin_episode(env, obs, info, attempt=attempt, seed=seed, env_id=env_id)
     while True:
         action = policy(obs, info)
         perturbed = False

@@ -15,7 +15,7 @@ from gymnasium import spaces
 
 from legent_gym import gl_backend  # noqa: F401  (before mujoco)
 from legent_gym.agent.actions import ActionLimits, ActionParseError, format_action
-from legent_gym.agent.body import DEFAULT_REACH
+from legent_gym.agent.body import DEFAULT_REACH, Outcome
 from legent_gym.envs.action_spaces import (
     continuous_action_space,
     parse_step,
@@ -38,6 +38,30 @@ CAMERA_PRESETS = {
 }
 #: The longest instruction or message an observation holds (characters).
 MAX_TEXT = 500
+#: ``info`` ids (``held``, ``house_seed``, the task's ``target`` and ``receptacle``) where there is none.
+NO_ID = -1
+#: ``info["distance_to_goal"]`` where nothing measures it (``distance_info=False``): a number,
+#: as recorders of infos need, and not nan, which equals nothing (determinism checks compare infos).
+NOT_MEASURED = -1.0
+
+
+def info_values(values: dict[str, Any]) -> dict[str, Any]:
+    """A task's description or evaluation as ``info`` holds it: one type per key in every
+    episode (what Minari's recorder needs): -1 for an id the goal has not (None), a list
+    of names (WhereIs's ``answers``) as one string joined by "|"."""
+    return {k: NO_ID if v is None else "|".join(v) if isinstance(v, list | tuple) else v for k, v in values.items()}
+
+
+def action_info(texts: list[str], results: list[Outcome], error: str) -> dict[str, Any]:
+    """The ``info`` fields of a step's primitives (``texts``, their ``results``) or of an
+    action that did not parse (``error``); with nothing given, those of a reset."""
+    return {
+        "action_text": ", ".join(texts),
+        "action_ok": not error and all(r.ok for r in results),
+        "action_results": "; ".join(f"{t}: {'ok' if r.ok else 'failed'}" + (f" ({r.reason})" if r.reason else "")
+                                    for t, r in zip(texts, results)),
+        "action_error": error,
+    }
 
 
 class HouseholdEnv(gym.Env):
@@ -77,12 +101,26 @@ class HouseholdEnv(gym.Env):
 
     Privileged state is in ``info`` (for rewards, experts and analysis, not for policies;
     the whole episode, for experts and servers, is ``env.unwrapped.episode``, an
-    :class:`~legent_gym.envs.episode.Episode`):
-    ``agent_pose`` (x, y, yaw, pitch), ``user_pose``, ``held`` (object id or None),
-    ``task`` (goal ids), ``success``, ``distance_to_goal`` (geodesic metres to the current
-    sub-goal; None with ``distance_info=False``), ``action_text`` (the step as action code),
-    ``action_results`` (one entry per primitive: ``ok`` and ``reason``), ``action_error`` (only on unparsable actions),
-    ``house_seed``, ``scene_name``, ``n_actions``.
+    :class:`~legent_gym.envs.episode.Episode`). It has the same keys at reset and after
+    every step, and each key one type in every episode of an env (no None), so Minari's
+    ``DataCollector(env, record_infos=True)`` records it (``docs/datasets.md``):
+
+    * ``agent_pose``, ``user_pose``: (x, y, yaw, pitch); ``held``: the agent's object id
+      (-1: nothing);
+    * ``task``: ``name`` and the goal's ``target`` and ``receptacle`` object ids (-1 where
+      the task has none); WhereIs adds ``answers``, the names its success accepts joined
+      by "|";
+    * ``success``; ``distance_to_goal``: geodesic metres to the current sub-goal (-1 with
+      ``distance_info=False``); the task's own: ComeHere ``distance_to_user``, WhereIs
+      ``answers``;
+    * ``action_text``: the step as action code; ``action_ok``: it parsed and every
+      primitive succeeded; ``action_results``: one ``code: ok`` or ``code: failed
+      (reason)`` per primitive, joined by "; "; ``action_error``: why it did not parse,
+      else "" (at reset: "", True, "", "");
+    * ``attempts``: spawn draws the reset needed; ``house_seed`` (-1: a scene given as it
+      is), ``scene_name``, ``n_actions``;
+    * with ``frames_per_step`` F > 1, ``frames``: (F - 1, H, W, 3) uint8 (see Arguments;
+      at reset F - 1 copies of the first view).
 
     ## Rewards
     ``reward="sparse"`` (default): 1 on success, else 0. ``reward="dense"``: the decrease of
@@ -232,6 +270,7 @@ class HouseholdEnv(gym.Env):
         self.observation_space = spaces.Dict(obs)
 
         self._n_actions = 0
+        self._attempts = 0
         self._last_distance: float | None = None
         self._message = ""
         # The third-person view of render(), made on its first frame, for one world.
@@ -249,27 +288,29 @@ class HouseholdEnv(gym.Env):
         if scene is not None and not isinstance(scene, Scene):
             scene = load_scene(scene)
         # The same seed, the same episode, whatever came before (see Episode.begin).
-        attempts = self.episode.begin(self.np_random, scene, seed=seed)
+        self._attempts = self.episode.begin(self.np_random, scene, seed=seed)
         self._n_actions = 0
         self._frames_since_render = []
         evaluation = self.episode.judge()
         self._last_distance = distance = self.distance_left()
         self._message = self.episode.require_goal().instruction
         info = self._info(evaluation, distance)
-        info["attempts"] = attempts
-        return self._observation(), info
+        obs = self._observation()
+        if self.frames_per_step > 1:  # the agent stood still before its first observation
+            info["frames"] = np.stack([obs["rgb"]] * (self.frames_per_step - 1))
+        return obs, info
 
     def step(self, action):
         if self.episode.ctx is None:
             raise RuntimeError("call reset() before step()")
-        info_extra: dict[str, Any] = {}
+        error = ""
         try:
             primitives = parse_step(action, self.action_type)
         except (ActionParseError, ValueError) as err:
             if self.strict:
                 raise
             primitives = ()
-            info_extra["action_error"] = str(err)
+            error = str(err)
         self._n_actions += 1
         results = self.episode.run(primitives)
         evaluation = self.episode.judge()
@@ -277,12 +318,10 @@ class HouseholdEnv(gym.Env):
         distance = self.distance_left()
         reward = self._reward(evaluation, distance)
         info = self._info(evaluation, distance)
-        info.update(info_extra)
         texts = [format_action(p) for p in primitives]  # each primitive printed once
-        info["action_text"] = ", ".join(texts)
-        info["action_results"] = [{"action": t, "ok": r.ok, "reason": r.reason} for t, r in zip(texts, results)]
+        info.update(action_info(texts, results, error))
         if self.frames_per_step > 1:
-            info["frames"] = self._frames_within_step()
+            info["frames"] = np.stack(self._frames_within_step())
         return self._observation(), reward, bool(terminated), False, info
 
     def _frames_within_step(self) -> list[np.ndarray]:
@@ -319,17 +358,20 @@ class HouseholdEnv(gym.Env):
     def _info(self, evaluation: Evaluation, distance: float | None) -> dict[str, Any]:
         ctx = self.episode.require()
         a, u = ctx.agent.state, ctx.user.state
+        house_seed = self.episode.house_seed
         return {
             "agent_pose": (a.x, a.y, a.yaw, a.pitch),
             "user_pose": (u.x, u.y, u.yaw, u.pitch),
-            "held": a.held,
-            "task": {"name": self.task_name, **self.episode.require_goal().describe()},
+            "held": NO_ID if a.held is None else a.held,
+            "task": {"name": self.task_name, **info_values(self.episode.require_goal().describe())},
             "success": bool(evaluation.success),
-            "distance_to_goal": distance,
-            "house_seed": self.episode.house_seed,
+            "distance_to_goal": NOT_MEASURED if distance is None else float(distance),
+            "house_seed": NO_ID if house_seed is None else house_seed,
             "scene_name": ctx.scene.name,
             "n_actions": self._n_actions,
-            **evaluation.info,
+            "attempts": self._attempts,
+            **action_info([], [], ""),
+            **info_values(evaluation.info),
         }
 
     def render(self):

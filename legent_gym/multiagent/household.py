@@ -47,7 +47,7 @@ from legent_gym.agent.actions import (
 from legent_gym.agent.body import Body, Outcome
 from legent_gym.envs.action_spaces import SPEECH_CHARSET, parse_step
 from legent_gym.envs.episode import Episode
-from legent_gym.envs.household import MAX_TEXT, HouseholdEnv
+from legent_gym.envs.household import MAX_TEXT, NO_ID, HouseholdEnv, action_info
 from legent_gym.multiagent.window import Window
 from legent_gym.tasks.base import MAX_ACTIONS
 from legent_gym.world.builder import GROUP_COLLISION, World
@@ -105,9 +105,10 @@ class HouseholdParallelEnv(ParallelEnv):
     speech in WhereIs); both truncate after ``max_cycles`` steps (25).
 
     ## Info
-    The agent's info is the single-agent env's. The user's holds the same shared fields
-    (poses, task, success, distances) with its own ``held``, ``action_text``,
-    ``action_results`` and ``action_error``. ``distance_to_goal`` is None unless
+    The agent's info is the single-agent env's. The user's has the same keys and types
+    (poses, task, success, distances) with its own ``held``, ``n_actions``,
+    ``action_text``, ``action_ok``, ``action_results`` and ``action_error`` (a user that
+    passes None: "", True, "", ""). ``distance_to_goal`` is -1 unless
     ``distance_info=True`` or ``reward="dense"``: where the goal is the user (ComeHere,
     BringMe), a user who moves makes it a shortest-path search over the whole house every
     step, dearer than the step itself.
@@ -209,8 +210,7 @@ class HouseholdParallelEnv(ParallelEnv):
         self._user_hears = ""
         self._last_distance = agent_info["distance_to_goal"]
         observations = {USER: self._user_observation(), AGENT: self._agent_observation(agent_obs)}
-        user_info = self._user_info(agent_info, [], None)
-        user_info["attempts"] = agent_info["attempts"]
+        user_info = self._user_info(agent_info, [], [], "")
         if self._window is not None:
             self.render()
         return observations, {USER: user_info, AGENT: agent_info}
@@ -227,7 +227,7 @@ class HouseholdParallelEnv(ParallelEnv):
                              "(the user may pass None to do nothing)")
         episode = self.episode
         ctx = episode.require()
-        user_text, user_results, user_error = self._user_turn(actions[USER])
+        user_texts, user_results, user_error = self._user_turn(actions[USER])
         distance_after_user = None
         if self.rewards_mode == "per_agent" and self.core.reward_type == "dense":
             distance_after_user = self.core.distance_left()
@@ -251,8 +251,7 @@ class HouseholdParallelEnv(ParallelEnv):
         truncated = self.cycles >= self.max_cycles
         observations = {USER: self._user_observation(), AGENT: self._agent_observation(agent_obs)}
         rewards = self._rewards(float(reward), distance_after_user, agent_info["distance_to_goal"])
-        user_info = self._user_info(agent_info, user_results, user_error)
-        user_info["action_text"] = user_text
+        user_info = self._user_info(agent_info, user_texts, user_results, user_error)
         terminations = {USER: bool(terminated), AGENT: bool(terminated)}
         truncations = {USER: truncated, AGENT: truncated}
         if terminated or truncated:
@@ -262,24 +261,24 @@ class HouseholdParallelEnv(ParallelEnv):
         return observations, rewards, terminations, truncations, {USER: user_info, AGENT: agent_info}
 
     # -- the user's turn -----------------------------------------------------------------
-    def _user_turn(self, action) -> tuple[str, list[dict], str | None]:
+    def _user_turn(self, action) -> tuple[list[str], list[Outcome], str]:
+        """The user's primitives as code, their outcomes, and why the action did not parse ("")."""
         if action is None:
-            return "", [], None
+            return [], [], ""
         try:
             primitives = parse_step(action, self.action_type)
         except (ActionParseError, ValueError) as err:
             if self.core.strict:
                 raise
-            return "", [], str(err)
+            return [], [], str(err)
         ctx = self.episode.require()
-        results: list[dict[str, Any]] = []
+        results: list[Outcome] = []
         with ctx.user.batched():  # as for the agent: one world update for the step's moves and turns
             for primitive in primitives:
-                outcome = self._user_execute(primitive)
+                results.append(self._user_execute(primitive))
                 if ctx.agent.state.held is not None and ctx.agent.state.held == ctx.user.state.held:
                     ctx.agent.state.held = None  # the user took it out of the agent's hands
-                results.append({"action": format_action(primitive), "ok": outcome.ok, "reason": outcome.reason})
-        return ", ".join(r["action"] for r in results), results, None
+        return [format_action(p) for p in primitives], results, ""
 
     def _user_execute(self, primitive) -> Outcome:
         episode = self.episode
@@ -333,16 +332,16 @@ class HouseholdParallelEnv(ParallelEnv):
         # The team's reward counts both turns' progress; each side gives back the other's.
         return {USER: team - progress(after_user, after_agent), AGENT: team - progress(before, after_user)}
 
-    def _user_info(self, agent_info: dict[str, Any], results: list[dict], error: str | None) -> dict[str, Any]:
-        info = {k: v for k, v in agent_info.items() if k not in ("action_text", "action_results", "action_error",
-                                                                 "attempts")}
+    def _user_info(self, agent_info: dict[str, Any], texts: list[str], results: list[Outcome],
+                   error: str) -> dict[str, Any]:
+        """The agent's info with the user's own ``held``, ``n_actions`` and action fields (the
+        same keys and types as the agent's, at reset and every step)."""
+        info = dict(agent_info)
         info["task"] = dict(agent_info["task"])
-        info["held"] = self.episode.require().user.state.held
+        held = self.episode.require().user.state.held
+        info["held"] = NO_ID if held is None else held
         info["n_actions"] = self.cycles
-        info["action_text"] = ""
-        info["action_results"] = results
-        if error is not None:
-            info["action_error"] = error
+        info.update(action_info(texts, results, error))
         return info
 
     # -- rendering and closing -------------------------------------------------------------

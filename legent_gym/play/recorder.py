@@ -17,7 +17,7 @@ from typing import Any
 
 from legent_gym.data.legent_format import LegentWriter, episode_pngs
 from legent_gym.data.minari_store import MinariWriter
-from legent_gym.data.rollout import Episode, recorded_info
+from legent_gym.data.rollout import Episode, begin_episode, recorded_info
 
 
 def dataset_id(env_id: str) -> str:
@@ -33,6 +33,7 @@ class Recorder:
     def __init__(self, root: str | Path, env_id: str, env: Any):
         self.root = Path(root)
         self.env_id = env_id
+        self.env = env
         self.root.mkdir(parents=True, exist_ok=True)
         self.minari = MinariWriter(self.root / "minari", dataset_id(env_id), staging=self.root / ".staging")
         if not self.minari.exists:
@@ -47,13 +48,7 @@ class Recorder:
         self.attempt = 0
 
     def begin(self, obs: dict[str, Any], info: dict[str, Any], seed: int) -> None:
-        episode = Episode(attempt=self.attempt, seed=seed, env_id=self.env_id, instruction=str(obs["instruction"]),
-                          task=dict(info.get("task", {})), house_seed=info.get("house_seed"),
-                          scene_name=info.get("scene_name"))
-        episode.observations.append(obs)
-        episode.infos.append(recorded_info(info))
-        episode.goal_views.append(info.get("goal_view"))
-        self.episode = episode
+        self.episode = begin_episode(self.env, obs, info, attempt=self.attempt, seed=seed, env_id=self.env_id)
         self.attempt += 1
 
     def step(self, action: str, obs: dict[str, Any], reward: float, terminated: bool, truncated: bool,

@@ -289,7 +289,7 @@ class PlaySession:
             self.seed += 1
         self.transcript = []
         self.partner_error = ""
-        self.result: list[dict[str, Any]] = []
+        self.result = ""  # info["action_results"] of the person's last action
         self.error = ""
         self.done = False
         self.recorded = ""
@@ -372,7 +372,7 @@ class PlaySession:
         observations, _, terminations, truncations, infos = self.env.step({"user": code, "agent": agent_action})
         self.obs, self.info = observations, infos
         user_info = infos["user"]
-        self.result = list(user_info.get("action_results", [])) if code is not None else self.result
+        self.result = str(user_info.get("action_results", "")) if code is not None else self.result
         self.error = str(user_info.get("action_error") or "") if code is not None else self.error
         self._hear("agent")
         self.done = bool(terminations["agent"] or truncations["agent"])
@@ -381,7 +381,7 @@ class PlaySession:
         obs, reward, terminated, truncated, info = self.env.step(code)
         self.steps += 1
         self.obs, self.info = obs, info
-        self.result = list(info.get("action_results", []))
+        self.result = str(info.get("action_results", ""))
         self.error = str(info.get("action_error") or "")
         self._hear("you")
         self.done = bool(terminated or truncated)
@@ -439,8 +439,7 @@ class PlaySession:
             "done": self.done,
             "actions_used": used,
             "actions_cap": cap,
-            "result": [{"action": str(r.get("action", "")), "ok": bool(r.get("ok", False)),
-                        "reason": str(r.get("reason") or "")} for r in self.result],
+            "result": self.result,
             "error": self.error,
             "partner_error": self.partner_error,
             "recorded": self.recorded,

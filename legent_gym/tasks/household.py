@@ -342,6 +342,17 @@ class PutOn(Task):
 TASKS: dict[str, type[Task]] = {t.name: t for t in (ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn)}
 
 
+def paper_instruction(task: Task, goal: TaskInstance, ctx: TaskContext) -> str:
+    """``goal`` in the words of the paper's template for it (the first of its task's
+    ``templates``: "Come here.", "Where is the apple?"), whatever paraphrase the user said.
+    Its first word names the task as LEGENT's evaluation reads it (``come``, ``where``)."""
+    template = TASKS[task.goal_task(goal)].templates[0]
+    target, receptacle = getattr(goal, "target", None), getattr(goal, "receptacle", None)
+    names = {"a": ctx.name_of(target) if target is not None else "",
+             "b": ctx.name_of(receptacle) if receptacle is not None else ""}
+    return template.format(**names)
+
+
 def make_task(name: str, **options: Any) -> Task:
     """The task ``name`` (one of :data:`TASKS`, or ``Custom``: tasks read from a file, see
     :mod:`legent_gym.tasks.custom`) with its ``options`` (keyword arguments of its class)."""
@@ -356,4 +367,4 @@ def make_task(name: str, **options: Any) -> Task:
         raise ValueError(f"task {name} does not take the options {sorted(options)}: {err}") from None
 
 
-__all__ = ["TASKS", "make_task", "PAPER_WHERE_IS", "ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn"]
+__all__ = ["TASKS", "make_task", "paper_instruction", "PAPER_WHERE_IS", "ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn"]

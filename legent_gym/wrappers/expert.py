@@ -22,17 +22,19 @@ from typing import Any
 
 import gymnasium as gym
 
+from legent_gym.envs.action_spaces import noop_dict
 from legent_gym.experts.expert import Expert
 
 
-class ExpertInfo(gym.Wrapper):
+class ExpertInfo(gym.Wrapper, gym.utils.RecordConstructorArgs):
     """Adds ``info["expert_action"]`` (and ``info["expert_problem"]``, ``info["goal_view"]``)
     at reset and every step.
 
     ``find_strategy``: passed to :class:`~legent_gym.experts.expert.Expert`."""
 
     def __init__(self, env: gym.Env, find_strategy: str = "direct"):
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self, find_strategy=find_strategy)
+        gym.Wrapper.__init__(self, env)
         self.expert = Expert(env, find_strategy)
 
     def _label(self, info: dict[str, Any]) -> dict[str, Any]:
@@ -53,11 +55,17 @@ class ExpertInfo(gym.Wrapper):
 
 class ExpertPolicy(ExpertInfo):
     """Steps with the expert's action; the action passed to :meth:`step` is ignored (pass
-    ``None``). ``info["action_taken"]`` is the action executed."""
+    ``None``). ``info["action_taken"]`` is the action executed (at reset: the no-op, ``""``
+    or :func:`~legent_gym.envs.action_spaces.noop_dict`).
+
+    The env below records what it is stepped with, so a recorder of actions goes *inside*:
+    ``ExpertPolicy(minari.DataCollector(env))`` records the expert's actions (a
+    ``DataCollector`` outside would record the ``None`` passed to this wrapper)."""
 
     def reset(self, **kwargs):
         obs, info = super().reset(**kwargs)
         self._next = info["expert_action"]
+        info["action_taken"] = "" if isinstance(self._next, str) else noop_dict()
         return obs, info
 
     def step(self, action=None):

@@ -24,9 +24,10 @@ from legent_gym.envs.text_space import VectorSafeText
 IMAGE_TOKEN = "<image>"
 
 
-class InterleavedHistory(gym.Wrapper):
+class InterleavedHistory(gym.Wrapper, gym.utils.RecordConstructorArgs):
     def __init__(self, env: gym.Env, k: int = 6, max_text: int = 4000):
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self, k=k, max_text=max_text)
+        gym.Wrapper.__init__(self, env)
         if k < 1:
             raise ValueError(f"history length k must be >= 1, got {k}")
         self.k = k

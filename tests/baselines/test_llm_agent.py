@@ -71,7 +71,7 @@ def test_agent_sends_interleaved_history_and_steps_the_env():
         for _ in replies:
             action = agent.act(obs)
             obs, _, terminated, truncated, info = env.step(action)
-            assert "action_error" not in info and not truncated
+            assert info["action_error"] == "" and not truncated
             frames.append(obs["rgb"])
             actions.append(action)
             if terminated:
@@ -136,7 +136,7 @@ def test_persistently_unparsable_replies_fall_back_to_a_noop_with_the_reason():
     assert len(server.requests) == 2
     assert "no valid action code in 2 replies" in agent.steps[0].fallback
     # The fallback is a real no-op: valid code that leaves the agent where it was.
-    assert "action_error" not in info and info["agent_pose"] == info0["agent_pose"]
+    assert info["action_error"] == "" and info["agent_pose"] == info0["agent_pose"]
 
 
 def test_empty_content_counts_as_an_unparsable_reply():

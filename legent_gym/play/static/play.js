@@ -97,9 +97,7 @@
     $("success").textContent = s.success ? "yes" : (s.done ? "no (episode over)" : "not yet");
     $("success").className = s.success ? "good" : "";
     $("actions").textContent = `${s.actions_used} / ${s.actions_cap}`;
-    $("result").textContent = s.result.length
-      ? s.result.map((r) => `${r.action}: ${r.ok ? "ok" : "failed"}${r.reason ? " (" + r.reason + ")" : ""}`).join("; ")
-      : "—";
+    $("result").textContent = s.result || "—";
     $("error").textContent = s.error;
     $("partner-error").textContent = s.partner_error;
     $("recorded").textContent = s.recorded ? `recorded as trajectory ${s.recorded}` : "";
