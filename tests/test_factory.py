@@ -157,7 +157,7 @@ _SCRIPT = """
 import sys, time, gymnasium as gym, legent_gym
 env = gym.make("Legent/ComeHere-OneRoom-v0", width=32, height=32, helpers=2)
 env.reset(seed=0)
-print(*env.unwrapped.episode._factory.pids, flush=True)
+print(env.unwrapped.episode._factory.folder, *env.unwrapped.episode._factory.pids, flush=True)
 if sys.argv[1] == "hang":
     time.sleep(600)
 """
@@ -179,12 +179,12 @@ def test_no_helper_outlives_its_env_process(how):
     proc = subprocess.Popen([sys.executable, "-c", _SCRIPT, "exit" if how == "exit" else "hang"],
                             stdout=subprocess.PIPE, text=True)
     try:
-        pids = [int(p) for p in proc.stdout.readline().split()]
-        assert len(pids) == 2
+        folder, *pids = proc.stdout.readline().split()
+        assert len(pids) == 2 and os.path.isdir(folder)
         if how == "killed":
             proc.kill()
         proc.wait(timeout=120)
-        assert _gone(pids)
+        assert _gone([int(p) for p in pids]) and not os.path.exists(folder)
     finally:
         proc.kill()
         proc.wait()

@@ -25,7 +25,7 @@ millisecond and a half for a new house, far less in a kept one) instead of doing
   helper, which keeps the house.
 * Helpers stop with :meth:`EpisodeFactory.close` (the env's ``close()``), at interpreter
   exit, and by themselves when their env's process goes (their pipe ends: they stop once
-  the episode in hand is done). A helper that dies makes the next reset that waits on it
+  the episode in hand is done, and remove the folder below). A helper that dies makes the next reset that waits on it
   raise :class:`HelperDied`, naming its exit status.
 * What they ship lies in a private temporary folder (on ``/dev/shm`` where there is one),
   removed on close.
@@ -384,7 +384,8 @@ def helper_main(fd: int) -> int:
     while True:
         try:
             job = conn.recv()
-        except EOFError:
+        except EOFError:  # the env's process is gone without closing: nobody else cleans up
+            shutil.rmtree(folder, ignore_errors=True)
             return 0
         if job is None:
             return 0
@@ -408,6 +409,7 @@ def helper_main(fd: int) -> int:
             try:
                 conn.send(answer)
             except OSError:
+                shutil.rmtree(folder, ignore_errors=True)
                 return 0
 
 
