@@ -1,27 +1,29 @@
 """Soak run: many steps, resets and make/close cycles in one process, watching for leaks.
 
-    python benchmarks/soak.py [--env single|multi|both] [--steps 100000] [--resets 5000]
-                              [--cycles 500] [--size 96] [--samples 20] [--seed 0]
+    python benchmarks/soak.py [--env single|multi|both] [--layouts OneRoom TwoRoom FourRoom]
+                              [--steps 100000] [--resets 5000] [--cycles 500] [--size 96]
+                              [--samples 20] [--seed 0] [--warmup-resets 400] [--no-trim]
+                              [--vector N] [--budget RESETS]
 
-One env (``gym.make("Legent/ComeHere-OneRoom-v0")`` or the PettingZoo parallel env of the
-same id, where the user acts too) takes random text actions (moves, turns, tilts, speech,
-interactions, and malformed text that the env answers with a no-op step), starting a new
-generated house every ``steps // resets`` steps (or when the episode ends). Interleaved
-with the steps, ``cycles`` times: a second env is made, reset, stepped once and closed.
-At every sample point the process is in the same state (the soaking env open, no other
-env), and the script records resident memory (``VmRSS``, before and after handing glibc's
-free heap pages back with ``malloc_trim``: the first is what the process holds, the second
-what it uses; glibc keeps freed memory for reuse, so the first grows by fragmentation
-where nothing leaks), open file descriptors, live
+For each layout, one env (``gym.make("Legent/ComeHere-<layout>-v0")`` or the PettingZoo
+parallel env of the same id, where the user acts too) takes random text actions (moves,
+turns, tilts, speech, interactions, and malformed text that the env answers with a no-op
+step), starting a new generated house every ``steps // resets`` steps (or when the episode
+ends). Interleaved with the steps, ``cycles`` times: a second env is made, reset, stepped
+once and closed. At every sample point the process is in the same state (the soaking env
+open, no other env), and the script records resident memory (``VmRSS``, before and after
+handing glibc's free heap pages back with ``malloc_trim``, unless ``--no-trim``: the first
+is what the process holds, the second what it uses), open file descriptors, live
 OpenGL and MuJoCo rendering contexts (:func:`legent_gym.gl_backend.live_contexts`) and
 steps/s since the last sample. After every step it checks MuJoCo's state for NaN or
 infinity (``qpos``, ``qvel``) and adds up MuJoCo's warning counters (``data.warning``).
 
-The first sample after the warm-up (a tenth of the steps) is the baseline; the report says
-how much memory grew since then and whether fds and contexts stayed equal to it. New
-houses fill bounded caches for a while (the asset registry keeps 4,096 made models and the
-link-geometry cache 4,096 links, about 400 new OneRoom houses' worth), so memory rises
-until they are full. The script pins itself to one core, as the other benchmarks do.
+The sample at ``--warmup-resets`` resets is the baseline; the report says how much memory
+grew since then and whether fds and contexts stayed equal to it. ``--vector N`` then steps
+Gymnasium's async vector env of N workers of the layout for ``steps // N`` vector steps and
+reports the resident memory of every process and their total. ``--budget RESETS`` instead
+says what one process's memory is made of after RESETS houses (:func:`budget`). The soak
+pins itself to one core, as the other benchmarks do (the vector env's workers get every core).
 """
 
 from __future__ import annotations
@@ -60,19 +62,12 @@ def random_action(rng: np.random.Generator) -> str:
 
 
 def trim_heap() -> bool:
-    """Hand the C heap's free pages back to the system (glibc's ``malloc_trim``); False
+    """Hand the C heap's free pages back to the system (:func:`legent_gym.heap.trim`); False
     where there is no glibc. Freed memory that glibc keeps for reuse counts in ``VmRSS``
     until then, so a resident size measured after this is the memory still in use."""
-    import ctypes
-    import ctypes.util
+    from legent_gym import heap
 
-    name = ctypes.util.find_library("c")
-    try:
-        libc = ctypes.CDLL(name or "libc.so.6")
-        libc.malloc_trim(0)
-    except (OSError, AttributeError):
-        return False
-    return True
+    return heap.trim()
 
 
 def rss_mb() -> float:
@@ -156,14 +151,14 @@ class SoakReport:
         return out
 
 
-def _make(kind: str, size: int, house_pool: list[int] | None):
-    """(env, reset, step, world) for the single-agent or the PettingZoo env of ENV_ID."""
+def _make(kind: str, size: int, house_pool: list[int] | None, env_id: str = ENV_ID):
+    """(env, reset, step, world) for the single-agent or the PettingZoo env of ``env_id``."""
     import gymnasium as gym
 
     import legent_gym  # noqa: F401  (registers the ids, picks EGL)
 
     if kind == "single":
-        env = gym.make(ENV_ID, width=size, height=size, house_pool=house_pool)
+        env = gym.make(env_id, width=size, height=size, house_pool=house_pool)
 
         def step(rng):
             _, _, terminated, truncated, _ = env.step(random_action(rng))
@@ -173,7 +168,7 @@ def _make(kind: str, size: int, house_pool: list[int] | None):
     from legent_gym.multiagent import parallel_env
     from legent_gym.multiagent.registration import id_kwargs
 
-    penv = parallel_env(**id_kwargs(ENV_ID), width=size, height=size, house_pool=house_pool)
+    penv = parallel_env(**id_kwargs(env_id), width=size, height=size, house_pool=house_pool)
 
     def pstep(rng):
         actions = {agent: random_action(rng) for agent in penv.agents}
@@ -200,17 +195,21 @@ def _check_state(world, report: SoakReport) -> None:
 
 
 def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: int = 30, *, size: int = 96,
-         samples: int = 10, seed: int = 0, house_pool: list[int] | None = None, log=None) -> SoakReport:
+         samples: int = 10, seed: int = 0, house_pool: list[int] | None = None, log=None, env_id: str = ENV_ID,
+         warmup_resets: int | None = None, trim: bool = True) -> SoakReport:
     """Run the soak (see the module docstring) and return its report. ``house_pool``: the
     houses come from these generation seeds, in turn, rather than from a new seed each
     time, so the asset and geometry caches fill within the warm-up; with more seeds than
     the env keeps built houses (``legent_gym.envs.episode.HOUSE_CACHE_SIZE``), every reset
-    still builds its house."""
+    still builds its house. ``warmup_resets``: the baseline is the sample taken when the
+    env has reset that many times (else after a tenth of the steps). ``trim``: hand the
+    free heap back at each sample (``Sample.rss_mb`` is then the memory in use); without
+    it, both figures are what the process holds, as it would hold it unsampled."""
     from legent_gym.gl_backend import live_contexts
 
     rng = np.random.default_rng(seed)
-    report = SoakReport(kind)
-    env, reset, step, world = _make(kind, size, house_pool)
+    report = SoakReport(f"{kind} {env_id}")
+    env, reset, step, world = _make(kind, size, house_pool, env_id)
     episode_len = max(1, steps // max(1, resets))
     warmup = max(1, steps // 10)
     sample_every = max(1, (steps - warmup) // max(1, samples))
@@ -224,7 +223,8 @@ def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: in
         rate = (report.steps - last_steps) / (now - last_time) if report.steps > last_steps else 0.0
         gc.collect()
         untrimmed = rss_mb()
-        trim_heap()
+        if trim:
+            trim_heap()
         report.samples.append(Sample(report.steps, report.resets, report.cycles, now - start, rss_mb(), untrimmed,
                                      open_fds(), live_contexts(), rate))
         now = time.perf_counter()  # the rate leaves out the sampling
@@ -247,21 +247,142 @@ def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: in
                 report.resets += 1
                 in_episode = 0
             if cycle_every and report.steps % cycle_every == 0 and report.cycles < cycles:
-                other, other_reset, other_step, other_world = _make(kind, size, house_pool)
+                other, other_reset, other_step, other_world = _make(kind, size, house_pool, env_id)
                 other_reset(int(rng.integers(2**31)))
                 other_step(rng)
                 _check_state(other_world(), report)
                 other.close()
                 del other, other_reset, other_step, other_world
                 report.cycles += 1
-            if report.steps == warmup:
+            if (report.steps == warmup if warmup_resets is None
+                    else report.resets >= warmup_resets and report.baseline == 0):
                 sample()
                 report.baseline = len(report.samples) - 1
-            elif report.steps > warmup and ((report.steps - warmup) % sample_every == 0 or report.steps == steps):
+                warmup = report.steps
+            elif report.baseline and ((report.steps - warmup) % sample_every == 0 or report.steps == steps):
                 sample()
     finally:
         env.close()
     return report
+
+
+@dataclass
+class VectorSample:
+    steps: int
+    seconds: float
+    rss_mb: list[float]  # resident memory of each process: the parent first, then its children
+    pss_mb: float  # proportional set size of them all (shared pages counted once in total)
+
+
+def vector_soak(env_id: str, workers: int, steps: int = 2_000, *, size: int = 96, samples: int = 10,
+                seed: int = 0, log=None) -> list[VectorSample]:
+    """Step Gymnasium's async vector env of ``workers`` copies of ``env_id`` (each in its own
+    process, started by forkserver) with random text actions for ``steps`` vector steps (the
+    workers reset themselves when an episode ends: a new generated house each), sampling the
+    resident memory of this process and of every process under it."""
+    import gymnasium as gym
+    import psutil
+
+    import legent_gym  # noqa: F401
+
+    if workers < 1:
+        raise ValueError(f"workers must be at least 1, got {workers}")
+    rng = np.random.default_rng(seed)
+    out: list[VectorSample] = []
+    start = time.perf_counter()
+    env = gym.make_vec(env_id, num_envs=workers, vectorization_mode="async", width=size, height=size,
+                       vector_kwargs={"context": "forkserver"})
+
+    def sample(done: int) -> None:
+        procs = [psutil.Process()] + psutil.Process().children(recursive=True)
+        rss, pss = [], 0.0
+        for proc in procs:
+            try:
+                info = proc.memory_full_info()
+            except psutil.Error:  # a process gone between the listing and the read
+                continue
+            rss.append(info.rss / 2**20)
+            pss += info.pss / 2**20
+        out.append(VectorSample(done, time.perf_counter() - start, rss, pss))
+        if log is not None:
+            log(f"{env_id} x{workers}: {done:>8} steps {out[-1].seconds:>8.1f} s  total RSS {sum(rss):8.1f} MiB  "
+                f"PSS {pss:8.1f} MiB  per process " + " ".join(f"{r:.0f}" for r in rss))
+
+    try:
+        env.reset(seed=seed)
+        sample(0)
+        every = max(1, steps // max(1, samples))
+        for done in range(1, steps + 1):
+            env.step(tuple(random_action(rng) for _ in range(workers)))
+            if done % every == 0 or done == steps:
+                sample(done)
+    finally:
+        env.close()
+    return out
+
+
+LAYOUTS = ("OneRoom", "TwoRoom", "FourRoom")
+
+
+def _mapped_mb() -> tuple[float, float]:
+    """(resident MiB in file-backed mappings: shared libraries and other files, the rest)."""
+    import psutil
+
+    files = other = 0.0
+    for m in psutil.Process().memory_maps(grouped=True):
+        if m.path.startswith("/") and not m.path.startswith("/dev/"):
+            files += m.rss / 2**20
+        else:
+            other += m.rss / 2**20
+    return files, other
+
+
+def budget(env_id: str, resets: int = 200, *, size: int = 96, seed: int = 0) -> list[tuple[str, float]]:
+    """What one env process's resident memory is made of after ``resets`` new houses with 20
+    random steps each: each component is what taking it away gives back (``VmRSS`` before
+    and after; every step ends with ``gc.collect`` and ``malloc_trim``, but the first)."""
+    before_import = rss_mb()
+    import gymnasium as gym
+
+    import legent_gym  # noqa: F401
+    from legent_gym.world import meshing
+    from legent_gym.world.assets import registry
+
+    imported = rss_mb()
+    rng = np.random.default_rng(seed)
+    env = gym.make(env_id, width=size, height=size)
+    env.reset(seed=seed)
+    for _ in range(resets):
+        for _ in range(20):
+            _, _, terminated, truncated, _ = env.step(random_action(rng))
+            if terminated or truncated:
+                break
+        env.reset()
+    gc.collect()
+    rows = [("resident, as held after the run", rss_mb())]
+
+    def freed(name: str) -> None:
+        gc.collect()
+        trim_heap()
+        now = rss_mb()
+        rows.append((name, rows[-1][1] - now if len(rows) == 1 else last[0] - now))
+        last[0] = now
+
+    last = [rows[0][1]]
+    freed("free heap pages glibc kept (malloc_trim)")
+    models, links = registry.make.cache_info().currsize, meshing.cached_links()
+    registry.make.cache_clear()
+    freed(f"asset models kept by registry.make ({models}) and their link geometry ({links} links)")
+    env.close()
+    del env
+    freed("the env: current house (MuJoCo model and data, navigation grids, task), renderer, "
+          "per-env caches")
+    files, other = _mapped_mb()
+    rows.append(("left: file-backed mappings (shared libraries: LLVM for llvmpipe, OpenCV, NumPy, "
+                 "MuJoCo, ...; shared between processes)", files))
+    rows.append((f"left: heap and anonymous memory (interpreter and modules: {before_import:.0f} MiB "
+                 f"before importing legent_gym, {imported:.0f} after; GL driver state; module caches)", other))
+    return rows
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -273,15 +394,41 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--size", type=int, default=96)
     parser.add_argument("--samples", type=int, default=20)
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--layouts", nargs="+", choices=LAYOUTS, default=list(LAYOUTS),
+                        help="soak Legent/ComeHere-<layout>-v0 for each")
+    parser.add_argument("--warmup-resets", type=int, default=400,
+                        help="the baseline sample is taken at this many resets")
+    parser.add_argument("--no-trim", action="store_true",
+                        help="never malloc_trim at a sample: every figure is what the process holds")
+    parser.add_argument("--vector", type=int, default=0, metavar="N",
+                        help="also step an async vector env of N workers per layout and report its total memory")
+    parser.add_argument("--budget", type=int, default=0, metavar="RESETS",
+                        help="instead of soaking: after RESETS new houses, what each component of the "
+                             "resident memory gives back when taken away, per layout")
     args = parser.parse_args(argv)
+    if args.budget:
+        for layout in args.layouts:
+            print(f"Legent/ComeHere-{layout}-v0, {args.budget} resets, {args.size} x {args.size}:")
+            for name, mb in budget(f"Legent/ComeHere-{layout}-v0", args.budget, size=args.size, seed=args.seed):
+                print(f"  {mb:8.1f} MiB  {name}", flush=True)
+        return 0
     from benchmarks_common import pin_to_one_core
 
+    every_core = os.sched_getaffinity(0) if hasattr(os, "sched_getaffinity") else None
     pin_to_one_core()
     kinds = ("single", "multi") if args.env == "both" else (args.env,)
-    for kind in kinds:
-        report = soak(kind, args.steps, args.resets, args.cycles, size=args.size, samples=args.samples,
-                      seed=args.seed, log=lambda line: print(line, flush=True))
-        print("\n".join(report.lines()), flush=True)
+    for layout in args.layouts:
+        env_id = f"Legent/ComeHere-{layout}-v0"
+        for kind in kinds:
+            report = soak(kind, args.steps, args.resets, args.cycles, size=args.size, samples=args.samples,
+                          seed=args.seed, log=lambda line: print(line, flush=True), env_id=env_id,
+                          warmup_resets=args.warmup_resets, trim=not args.no_trim)
+            print("\n".join(report.lines()), flush=True)
+        if args.vector:
+            if every_core is not None:  # the workers inherit it: one core each where there are enough
+                os.sched_setaffinity(0, every_core)
+            vector_soak(env_id, args.vector, args.steps // args.vector, size=args.size, samples=args.samples,
+                        seed=args.seed, log=lambda line: print(line, flush=True))
     return 0
 
 

@@ -51,3 +51,62 @@ def test_long_soak(kind):
     report = soak(kind, steps=100_000, resets=5_000, cycles=500, samples=20)
     print("\n".join(report.lines()))
     check(report, 100_000, 5_000, 500, growth_mb=50.0)
+
+
+LAYOUTS = ["OneRoom", "TwoRoom", "FourRoom"]
+
+
+def test_link_geometry_lives_with_its_link():
+    """The link-geometry cache holds no link: a link's merged mesh goes when the link does
+    (a variant the asset registry's cache let go), so it cannot fill with past houses."""
+    import gc
+
+    from legent_gym.world import meshing
+    from legent_gym.world.assets.model import Link, box_part
+
+    gc.collect()
+    before = meshing.cached_links()
+    links = [Link("base", [box_part((0, 0, 0.1 * i), (0.2, 0.2, 0.2), (0.5, 0.5, 0.5, 1.0))]) for i in range(50)]
+    meshing.prepare_link_geometry([(link, False) for link in links])
+    first = meshing.link_geometry(links[0], False)
+    assert meshing.link_geometry(links[0], False) is first  # cached while the link lives
+    assert meshing.cached_links() == before + 50
+    del links, first
+    gc.collect()
+    assert meshing.cached_links() == before
+
+
+def test_models_kept_bounded():
+    """The asset registry keeps at most MODELS_KEPT made models, whatever the houses ask."""
+    from legent_gym.world.assets import registry
+
+    for variant in range(registry.MODELS_KEPT + 40):
+        registry.make("chair", variant)
+    assert registry.make.cache_info().currsize == registry.MODELS_KEPT
+
+
+def test_short_soak_two_rooms_flat():
+    """TwoRoom at 96 x 96, a new generated house at every reset, nothing trimmed by the run:
+    after 40 resets the resident memory the process holds grows by less than 20 MiB over
+    the next 100 houses (caches that keep past houses' models and geometry, or a heap
+    that keeps their pages, grow by more)."""
+    report = soak("single", steps=280, resets=140, cycles=0, samples=4, env_id="Legent/ComeHere-TwoRoom-v0",
+                  warmup_resets=40, trim=False)
+    text = "\n".join(report.lines())
+    assert report.resets >= 140 and report.samples[report.baseline].resets >= 40, text
+    assert report.untrimmed_growth_mb < 20.0, text
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("layout", LAYOUTS)
+def test_memory_acceptance(layout):
+    """One env process, 96 x 96, 100,000 steps of random text with a new generated house at
+    every reset (every 20 steps or sooner), nothing trimmed by the run: at most 350 MiB
+    resident at the end, and at most 30 MiB more than at reset 400."""
+    report = soak("single", steps=100_000, resets=5_000, cycles=0, samples=20,
+                  env_id=f"Legent/ComeHere-{layout}-v0", warmup_resets=400, trim=False)
+    text = "\n".join(report.lines())
+    print(text)
+    assert report.samples[report.baseline].resets >= 400, text
+    assert report.samples[-1].untrimmed_mb <= 350.0, text
+    assert report.untrimmed_growth_mb <= 30.0, text

@@ -79,6 +79,7 @@ from typing import TYPE_CHECKING, Any
 import mujoco
 import numpy as np
 
+from legent_gym import heap
 from legent_gym.agent.actions import (
     Action,
     ActionLimits,
@@ -436,6 +437,7 @@ class Episode:
         """A house (``scene``, else drawn from ``house_rng``), set up or restored, and a goal
         in it from ``rng``, drawing another house while one offers none."""
         failure = None
+        previous = self.house
         for attempt in range(HOUSE_RETRIES):
             if scene is not None:
                 house = self._build(HouseDraw(("given", id(scene)), None, lambda: (scene, None)), keep=False)
@@ -457,6 +459,9 @@ class Episode:
                 self.goal = self.task.sample(ctx, rng)
                 if self.goal is not None:
                     house.episodes += 1
+                    if previous is not None and previous is not house and previous.draw.key not in self._kept:
+                        previous = None  # the last reference to a house not kept: its memory is free
+                        heap.trim()  # and its pages go back to the system (legent_gym.heap)
                     return attempt + 1
             if not drawn_spawns and (scene is not None or self.houses.house_fixed):
                 raise ValueError(f"task {self.task.name} has no valid goal in house {house.scene.name!r}")

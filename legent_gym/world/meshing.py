@@ -9,6 +9,7 @@ each triangle its colour through texture coordinates into one small shared palet
 from __future__ import annotations
 
 import math
+import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -188,21 +189,24 @@ class LinkGeometry:
     collision: tuple[CollisionShape, ...]
 
 
-_LINK_CACHE: dict[tuple[int, bool], tuple[object, LinkGeometry]] = {}
-_LINK_CACHE_SIZE = 4096
+#: (id(link), movable) -> (a weak reference to the link, its geometry). An entry lives as
+#: long as its link: a finalizer takes it out when the link is collected (so the id is
+#: never reused while the entry is there), and the geometry is not kept for a link that no
+#: one holds any more, such as a variant the asset registry's cache has let go.
+_LINK_CACHE: dict[tuple[int, bool], tuple[weakref.ref, LinkGeometry]] = {}
 
 
 def link_geometry(link, movable: bool, *, cache: bool = True) -> LinkGeometry:
-    """Merged visual mesh and collision shapes of a link (cached per link object).
+    """Merged visual mesh and collision shapes of a link (cached per link object, for as
+    long as the link lives).
 
     Collision is cheap where it can be: static furniture collides through the bounding box
     of each part (exact for box parts, and what things rest on are flat tops); a moving
     link gets box parts as boxes and all its round parts as one convex hull, because every
     hull costs compile time.
     """
-    key = (id(link), movable)
-    hit = _LINK_CACHE.get(key) if cache else None
-    if hit is not None and hit[0] is link:
+    hit = _LINK_CACHE.get((id(link), movable)) if cache else None
+    if hit is not None and hit[0]() is link:
         return hit[1]
     geometry = _geometries([(link, movable)])[0]
     if cache:
@@ -218,17 +222,23 @@ def prepare_link_geometry(links: list[tuple[Link, bool]]) -> None:
     for link, movable in links:
         key = (id(link), movable)
         hit = _LINK_CACHE.get(key)
-        if key not in seen and (hit is None or hit[0] is not link):
+        if key not in seen and (hit is None or hit[0]() is not link):
             seen.add(key)
             todo.append((link, movable))
     for (link, movable), geometry in zip(todo, _geometries(todo)):
         _remember(link, movable, geometry)
 
 
+def cached_links() -> int:
+    """How many ``(link, movable)`` geometries :func:`link_geometry` holds now."""
+    return len(_LINK_CACHE)
+
+
 def _remember(link, movable: bool, geometry: LinkGeometry) -> None:
-    if len(_LINK_CACHE) >= _LINK_CACHE_SIZE:
-        _LINK_CACHE.clear()
-    _LINK_CACHE[id(link), movable] = (link, geometry)  # the strong reference keeps id(link) unique
+    key = (id(link), movable)
+    if key not in _LINK_CACHE:
+        weakref.finalize(link, _LINK_CACHE.pop, key, None)
+    _LINK_CACHE[key] = (weakref.ref(link), geometry)
 
 
 def _geometries(links: list[tuple[Link, bool]]) -> list[LinkGeometry]:

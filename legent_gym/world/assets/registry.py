@@ -82,9 +82,16 @@ def variant_rng(asset_id: str, variant: int) -> np.random.Generator:
     return np.random.default_rng([zlib.crc32(asset_id.encode()), int(variant)])
 
 
-@lru_cache(maxsize=4096)
+#: Models :func:`make` keeps. A generated house asks for about 100 models, 25 of them
+#: distinct, and draws variants from a thousand per asset, so nearly every repeat is within
+#: one house: over 200 new TwoRoom houses, 72% of the calls hit with 256 kept and 76% with
+#: 4,096, which with their link geometry held about 30 MiB more (docs/performance.md, "Memory per env process").
+MODELS_KEPT = 256
+
+
+@lru_cache(maxsize=MODELS_KEPT)
 def make(asset_id: str, variant: int = 0) -> AssetModel:
-    """The asset's model for a variant (cached)."""
+    """The asset's model for a variant (the last :data:`MODELS_KEPT` are cached)."""
     entry = _ENTRIES.get(asset_id)
     if entry is None:
         raise UnknownAssetError(f"unknown asset id {asset_id!r}; known ids: {', '.join(asset_ids())}")
