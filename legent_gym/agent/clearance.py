@@ -20,6 +20,7 @@ Geoms of bodies welded to the world (walls, furniture) are taken once; geoms tha
 from __future__ import annotations
 
 import math
+import weakref
 from typing import NamedTuple, cast
 
 import numpy as np
@@ -64,7 +65,9 @@ class ClearanceMap:
 
     def __init__(self, world: World, z_range: tuple[float, float]):
         model = world.model
-        self.world = world
+        # A proxy: the map lives in world.derived, and a strong reference back would make
+        # the world a cycle, freed (with its MuJoCo model and data) only by a full collection.
+        self.world = cast(World, weakref.proxy(world))
         self.z_range = (z_range[0] - BOX_MARGIN, z_range[1] + BOX_MARGIN)
         collision = np.nonzero(model.geom_group == GROUP_COLLISION)[0]
         welded = model.body_weldid[model.geom_bodyid[collision]] == 0
