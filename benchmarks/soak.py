@@ -259,7 +259,7 @@ def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: in
                 sample()
                 report.baseline = len(report.samples) - 1
                 warmup = report.steps
-            elif report.baseline and ((report.steps - warmup) % sample_every == 0 or report.steps == steps):
+            elif (report.baseline and (report.steps - warmup) % sample_every == 0) or report.steps == steps:
                 sample()
     finally:
         env.close()

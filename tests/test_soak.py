@@ -76,6 +76,31 @@ def test_link_geometry_lives_with_its_link():
     assert meshing.cached_links() == before
 
 
+def test_dropped_house_freed_without_collection():
+    """A world the env no longer holds is freed at the reset that drops it, not at Python's
+    next full garbage collection (no reference cycle through ``world.derived``), so the heap
+    trim after a house finds its memory free."""
+    import gc
+    import weakref
+
+    import gymnasium as gym
+
+    env = gym.make("Legent/ComeHere-TwoRoom-v0", width=32, height=32)
+    try:
+        env.reset(seed=1)
+        for text in ("move_forward(1)", "rotate_right(30)", "move_forward(0.5)"):
+            env.step(text)  # the body's clearance map is made and kept in world.derived
+        world = weakref.ref(env.unwrapped.episode.house.world)
+        gc.disable()
+        try:
+            env.reset(seed=2)
+            assert world() is None
+        finally:
+            gc.enable()
+    finally:
+        env.close()
+
+
 def test_models_kept_bounded():
     """The asset registry keeps at most MODELS_KEPT made models, whatever the houses ask."""
     from legent_gym.world.assets import registry
