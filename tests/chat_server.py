@@ -17,16 +17,23 @@ def completion(text: str) -> dict:
             "usage": {"prompt_tokens": 1, "completion_tokens": 1, "total_tokens": 2}}
 
 
+#: How long a ``held`` reply waits at most for the server to close.
+HOLD_SECONDS = 60.0
+
+
 class ReplayServer:
-    """Behaviours: ``("reply", text)``, ``("slow", seconds, text)``, ``("drip", seconds)`` (a
-    body sent a byte at a time for that long), ``("status", code[, headers[, message]])``,
-    ``("raw", bytes)`` (a 200 with that body), ``("big", n_bytes)`` (a 200 chat completion
-    of that size), ``("no_choices",)``, ``("empty_choices",)``."""
+    """Behaviours: ``("reply", text)``, ``("held", text)`` (sent when the server closes, or
+    after :data:`HOLD_SECONDS`: a client that honours a timeout has given up long before),
+    ``("drip", seconds)`` (a body sent a byte at a time for that long, or until the server
+    closes), ``("status", code[, headers[, message]])``, ``("raw", bytes)`` (a 200 with that
+    body), ``("big", n_bytes)`` (a 200 chat completion of that size), ``("no_choices",)``,
+    ``("empty_choices",)``."""
 
     def __init__(self, script=(), default=("status", 500)):
         self.script, self.default = list(script), default
         self.requests: list[dict] = []
         self.lock = threading.Lock()
+        self.closing = threading.Event()
         server = self
 
         class Handler(BaseHTTPRequestHandler):
@@ -49,9 +56,9 @@ class ReplayServer:
             def answer(self, kind, *args):
                 if kind == "reply":
                     self.send(200, json.dumps(completion(args[0])).encode())
-                elif kind == "slow":
-                    time.sleep(args[0])
-                    self.send(200, json.dumps(completion(args[1])).encode())
+                elif kind == "held":
+                    server.closing.wait(HOLD_SECONDS)
+                    self.send(200, json.dumps(completion(args[0])).encode())
                 elif kind == "drip":
                     data = json.dumps(completion("{}")).encode()
                     self.send_response(200)
@@ -62,7 +69,8 @@ class ReplayServer:
                     for b in data:
                         self.wfile.write(bytes([b]))
                         self.wfile.flush()
-                        time.sleep(pause)
+                        if server.closing.wait(pause):
+                            return
                 elif kind == "status":
                     code = args[0]
                     headers = args[1] if len(args) > 1 else {}
@@ -97,6 +105,7 @@ class ReplayServer:
         return self
 
     def __exit__(self, *exc):
+        self.closing.set()
         self.httpd.shutdown()
         self.httpd.server_close()
 

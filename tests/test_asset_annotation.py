@@ -1,4 +1,4 @@
-"""`legent-gym asset annotate` on the shared glTF samples, with a real chat completions server
+"""`legent-gym asset annotate` on the Khronos glTF samples (tests/data/gltf), with a real chat completions server
 on 127.0.0.1 replaying a VLM's reply (tests/chat_server.py): geometry computed, semantics
 from the reply, cached by file hash; the annotated asset is placed by the generator and
 rendered in the env."""
@@ -16,10 +16,9 @@ from legent_gym.cli import main
 from legent_gym.world.assets import registry
 
 from .chat_server import ReplayServer
-from .conftest import SHARED_GLTF
+from .conftest import GLTF_SAMPLES
 
-SAMPLES = sorted(SHARED_GLTF.glob("*.gltf")) if SHARED_GLTF.is_dir() else []
-needs_samples = pytest.mark.skipif(not SAMPLES, reason=f"the shared glTF samples are missing ({SHARED_GLTF})")
+SAMPLES = sorted(GLTF_SAMPLES.glob("*.gltf"))
 REPLY = {"name": "Storage box", "category": "storage box", "description": "A plain closed box.", "pickable": False,
          "receptacle": True, "on_floor": True, "on_wall": False, "on_object": False, "materials": ["cardboard"],
          "mass": 3.0, "front_view": 1}
@@ -35,10 +34,9 @@ def _llm(url, timeout="20"):
     return ["--llm-base-url", url, "--model", "test-vlm", "--timeout", timeout, "--retries", "0"]
 
 
-@needs_samples
 @pytest.mark.parametrize("sample", [p.name for p in SAMPLES])
 def test_every_sample_is_annotated_from_four_views_and_cached(tmp_path, sample):
-    path = SHARED_GLTF / sample
+    path = GLTF_SAMPLES / sample
     with ReplayServer([("reply", json.dumps(REPLY))]) as server:
         assert _annotate(path, tmp_path / "a.json", tmp_path / "cache", *_llm(server.url)) == 0
         # The same file again: the cached annotation, no request.
@@ -55,9 +53,8 @@ def test_every_sample_is_annotated_from_four_views_and_cached(tmp_path, sample):
     assert all(v >= 0 for v in a.geometry.size) and max(a.geometry.size) > 0
 
 
-@needs_samples
 def test_the_box_geometry_is_measured(tmp_path):
-    assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache") == 0
+    assert _annotate(GLTF_SAMPLES / "Box.gltf", tmp_path / "box.json", tmp_path / "cache") == 0
     a = AssetAnnotation.model_validate_json((tmp_path / "box.json").read_text())
     assert a.geometry.up_axis == "y" and a.geometry.stable
     assert a.geometry.size == pytest.approx((1.0, 1.0, 1.0), abs=1e-3)
@@ -67,9 +64,8 @@ def test_the_box_geometry_is_measured(tmp_path):
     assert a.semantics is None and a.missing == list(SEMANTIC_FIELDS)
 
 
-@needs_samples
 def test_without_an_endpoint_the_geometry_is_written_and_the_rest_named(tmp_path, capsys):
-    assert _annotate(SHARED_GLTF / "BoxTextured.gltf", tmp_path / "box.json", tmp_path / "cache") == 0
+    assert _annotate(GLTF_SAMPLES / "BoxTextured.gltf", tmp_path / "box.json", tmp_path / "cache") == 0
     out = capsys.readouterr().out
     assert "missing: name, category, description" in out and "give --llm-base-url and --model" in out
 
@@ -82,19 +78,17 @@ FAILURES = {
 }
 
 
-@needs_samples
 @pytest.mark.parametrize("case", FAILURES)
 def test_endpoint_failures_are_one_line_and_write_nothing(tmp_path, capsys, case):
     script, needle = FAILURES[case]
     with ReplayServer(script) as server:
-        assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache",
+        assert _annotate(GLTF_SAMPLES / "Box.gltf", tmp_path / "box.json", tmp_path / "cache",
                          *_llm(server.url)) == 2
     err = capsys.readouterr().err
     assert err.startswith("legent-gym: error: ") and err.count("\n") == 1 and needle in err, err
     assert not (tmp_path / "box.json").exists() and not list((tmp_path / "cache").glob("*.json"))
 
 
-@needs_samples
 def test_the_annotated_asset_is_placed_by_the_generator_and_rendered(tmp_path):
     from legent_gym.envs.household import HouseholdEnv
     from legent_gym.world.generation import check_house
@@ -102,7 +96,7 @@ def test_the_annotated_asset_is_placed_by_the_generator_and_rendered(tmp_path):
     from legent_gym.world.render import Renderer
 
     with ReplayServer([("reply", json.dumps(REPLY))]) as server:
-        assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache",
+        assert _annotate(GLTF_SAMPLES / "Box.gltf", tmp_path / "box.json", tmp_path / "cache",
                          *_llm(server.url)) == 0
     asset_id = register_annotation(tmp_path / "box.json")
     try:
@@ -160,14 +154,13 @@ def test_the_front_view_turns_the_asset_and_its_surfaces(tmp_path):
     assert plain.yaw == 0.0 and plain.geometry.size == pytest.approx((0.8, 0.4, 0.5), abs=1e-3)
 
 
-@needs_samples
 def test_an_annotated_asset_goes_from_the_cli_into_a_plan_a_scene_and_generated_tasks(tmp_path, capsys):
     """asset annotate -> generate --plan --asset -> tasks generate --asset: a task about the
     annotated box is kept (its code and the expert complete it)."""
     from legent_gym.world.scene import load_scene
 
     with ReplayServer([("reply", json.dumps(REPLY))]) as server:
-        assert _annotate(SHARED_GLTF / "Box.gltf", tmp_path / "box.json", tmp_path / "cache", *_llm(server.url)) == 0
+        assert _annotate(GLTF_SAMPLES / "Box.gltf", tmp_path / "box.json", tmp_path / "cache", *_llm(server.url)) == 0
     plan = {"version": 1, "rooms": [{"name": "living", "type": "living room", "size": 16, "objects": [
         {"name": "box", "asset": "storage box", "relations": [{"kind": "against_wall"}]},
         {"name": "apple", "on": "sofa"}, {"name": "sofa"}]}]}
@@ -236,13 +229,12 @@ def _fresh(*args, cwd):
     return done.stdout
 
 
-@needs_samples
 @pytest.mark.parametrize("sample", ["Box.gltf", "crate.glb"])
 def test_a_generated_scene_carries_its_annotated_asset_into_a_fresh_process(tmp_path, sample):
     """asset annotate -> generate --plan --asset -> the scene file alone, in a fresh python:
     the box is imported from the scene's own entry (turned, sized, its surface a receptacle),
     stands where the generator put it, renders the same, and an expert puts the apple on it
-    (tasks generate with no --asset, in a fresh python). The shared Box.gltf, and a 0.8 x
+    (tasks generate with no --asset, in a fresh python). The sample Box.gltf, and a 0.8 x
     0.5 x 0.4 m crate whose front the VLM finds in view 1 (turned a quarter)."""
     from legent_gym.annotation import AssetAnnotation
     from legent_gym.world.assets.gltf import scene_asset_model
@@ -256,7 +248,7 @@ def test_a_generated_scene_carries_its_annotated_asset_into_a_fresh_process(tmp_
         source.parent.mkdir()
         trimesh.creation.box((0.8, 0.5, 0.4)).export(source)  # glTF frame: y up
     else:
-        source = SHARED_GLTF / sample
+        source = GLTF_SAMPLES / sample
     with ReplayServer([("reply", json.dumps(REPLY))]) as server:
         assert _annotate(source, tmp_path / "box.json", tmp_path / "cache", *_llm(server.url)) == 0
     annotation = AssetAnnotation.model_validate_json((tmp_path / "box.json").read_text())

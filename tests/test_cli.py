@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import json
-import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -14,7 +13,10 @@ import pytest
 
 from legent_gym.cli import main
 
-from .conftest import EXAMPLES, SHARED_GLTF
+from .conftest import EXAMPLES, GLTF_SAMPLES
+
+# The console script that `pip install` puts beside the interpreter (pyproject's [project.scripts]).
+LEGENT_GYM = Path(sys.executable).parent / "legent-gym"
 
 
 def test_validate_good_and_bad(tmp_path, capsys):
@@ -48,9 +50,7 @@ def test_asset_list_and_builtin_preview(tmp_path, capsys):
 
 
 def test_asset_preview_of_a_gltf_file(tmp_path):
-    source = SHARED_GLTF / "BoxTextured.gltf"
-    if not source.exists():
-        pytest.skip("shared/testdata/gltf is not beside the checkout")
+    source = GLTF_SAMPLES / "BoxTextured.gltf"
     out = tmp_path / "box.png"
     assert main(["asset", "preview", str(source), "--out", str(out), "--size", "64"]) == 0
     img = cv2.imread(str(out))
@@ -67,11 +67,8 @@ def test_broken_glb_is_a_clear_error(tmp_path, capsys):
 
 
 def test_installed_entry_point(tmp_path):
-    exe = shutil.which("legent-gym")
-    if exe is None:
-        pytest.skip("legent-gym is not on PATH (package not installed)")
-    result = subprocess.run([exe, "validate", str(EXAMPLES / "two_room_furnished.json")],
-                            capture_output=True, text=True, timeout=120)
+    assert LEGENT_GYM.is_file(), f"{LEGENT_GYM} is missing: install the package (pip install -e .)"
+    result = run_cli("validate", str(EXAMPLES / "two_room_furnished.json"))
     assert result.returncode == 0, result.stderr
     assert "80 objects" in result.stdout
 
@@ -106,9 +103,8 @@ def test_generate_impossible_request_is_a_clear_error(tmp_path, capsys):
 # --- bad inputs, as a user meets them: one line naming the file, exit status 2 ------------
 
 def run_cli(*args: str, cwd=None) -> subprocess.CompletedProcess:
-    """``python -m legent_gym.cli ARGS`` in a fresh process, as a user runs it."""
-    return subprocess.run([sys.executable, "-m", "legent_gym.cli", *args], capture_output=True, text=True,
-                          timeout=300, cwd=cwd)
+    """``legent-gym ARGS`` in a fresh process: the installed console script, as a user runs it."""
+    return subprocess.run([str(LEGENT_GYM), *args], capture_output=True, text=True, timeout=300, cwd=cwd)
 
 
 def assert_one_line_error(result: subprocess.CompletedProcess, named: str | None) -> None:
@@ -334,9 +330,9 @@ def test_collect_bad_arguments_are_one_line(tmp_path, case):
 BAD_ANNOTATE = {
     "missing file": (["nothere.glb"], "nothere.glb"),
     "not a glTF": (["afile"], "not a .glb or .gltf file"),
-    "URL without model": ([str(SHARED_GLTF / "Box.gltf"), "--llm-base-url", "http://127.0.0.1:9/v1"], "--model"),
-    "out is a directory": ([str(SHARED_GLTF / "Box.gltf"), "--out", "outdir"], "outdir"),
-    "nothing listens": ([str(SHARED_GLTF / "Box.gltf"), "--llm-base-url", "http://127.0.0.1:9/v1", "--model", "m",
+    "URL without model": ([str(GLTF_SAMPLES / "Box.gltf"), "--llm-base-url", "http://127.0.0.1:9/v1"], "--model"),
+    "out is a directory": ([str(GLTF_SAMPLES / "Box.gltf"), "--out", "outdir"], "outdir"),
+    "nothing listens": ([str(GLTF_SAMPLES / "Box.gltf"), "--llm-base-url", "http://127.0.0.1:9/v1", "--model", "m",
                          "--retries", "0", "--timeout", "2"], "Connection refused"),
 }
 
@@ -344,8 +340,6 @@ BAD_ANNOTATE = {
 @pytest.mark.parametrize("case", BAD_ANNOTATE)
 def test_asset_annotate_bad_arguments_are_one_line(tmp_path, case):
     args, named = BAD_ANNOTATE[case]
-    if not SHARED_GLTF.is_dir():
-        pytest.skip(f"the shared glTF samples are missing ({SHARED_GLTF})")
     (tmp_path / "outdir").mkdir()
     (tmp_path / "afile").write_text("")
     assert_one_line_error(run_cli("asset", "annotate", *args, "--cache-dir", "cache", "--out", "x.json"
@@ -384,10 +378,9 @@ def test_debug_shows_the_traceback(tmp_path, where):
     assert result.returncode != 0 and "Traceback" in result.stderr
 
 
-def test_every_shared_gltf_sample_previews_to_a_non_blank_image(tmp_path):
-    samples = sorted(SHARED_GLTF.glob("*.gl*")) if SHARED_GLTF.is_dir() else []
-    if not samples:
-        pytest.skip(f"no shared glTF samples: {SHARED_GLTF} is absent (it lies beside the checkout)")
+def test_every_gltf_sample_previews_to_a_non_blank_image(tmp_path):
+    samples = sorted(GLTF_SAMPLES.glob("*.gltf"))
+    assert len(samples) == 7, samples
     failed = []
     for sample in samples:
         out = tmp_path / f"{sample.stem}.png"

@@ -6,7 +6,7 @@ and the text action language. Each property runs 200 examples in the default sui
   negative or zero, a missing key or list entry, an extra key, extra nesting, a long or
   empty string, a duplicated entry) is either accepted, and then builds or raises
   ``SceneBuildError``, or raises ``SceneError`` whose problems each name a message;
-* glTF: the shared samples (``shared/testdata/gltf``), as ``.gltf`` and as ``.glb``,
+* glTF: the Khronos samples (``tests/data/gltf``), as ``.gltf`` and as ``.glb``,
   truncated, with bits flipped, with bytes overwritten, and with wrong lengths (GLB header
   and chunk lengths; ``byteLength``, ``byteOffset``, ``count``, ``byteStride`` and
   ``componentType`` in the JSON) either import, and then build or raise
@@ -40,7 +40,7 @@ from legent_gym.world.generation import generate_house
 from legent_gym.world.preview import preview_scene
 from legent_gym.world.scene import ImportedAsset, SceneError, loads_scene, validate_scene
 
-from .conftest import EXAMPLES, SHARED_GLTF
+from .conftest import EXAMPLES, GLTF_SAMPLES
 
 DEFAULT = settings(max_examples=200, deadline=None, database=None, derandomize=True,
                    suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
@@ -155,9 +155,9 @@ test_broken_scene, test_broken_scene_slow = check_broken_scene
 # --- glTF ----------------------------------------------------------------------------------
 
 def _samples() -> dict[str, bytes]:
-    """The shared samples as .gltf and, rebuilt from the same JSON and buffer, as .glb."""
+    """The Khronos samples as .gltf and, rebuilt from the same JSON and buffer, as .glb."""
     out: dict[str, bytes] = {}
-    for path in sorted(SHARED_GLTF.glob("*.gltf")):
+    for path in sorted(GLTF_SAMPLES.glob("*.gltf")):
         data = path.read_bytes()
         out[path.name] = data
         doc = json.loads(data)
@@ -241,8 +241,6 @@ _names = itertools.count()
 
 @pytest.fixture(scope="module")
 def gltf_dir(tmp_path_factory) -> Path:
-    if not SAMPLES:
-        pytest.skip(f"no glTF samples: {SHARED_GLTF} is missing (shared/testdata/gltf beside the checkout)")
     return tmp_path_factory.mktemp("fuzz_gltf")
 
 
@@ -289,7 +287,7 @@ def _import_corrupt(folder: Path, name: str, case) -> None:
 
 def _gltf_property(settings_):
     @settings_
-    @given(name=st.sampled_from(sorted(SAMPLES) or ["none"]), case=GLTF_CASES)
+    @given(name=st.sampled_from(sorted(SAMPLES)), case=GLTF_CASES)
     def check(gltf_dir, name, case):
         _import_corrupt(gltf_dir, name, case)
     return check
@@ -460,7 +458,7 @@ def _check_cli(argv: list[str], named: str, capsys) -> int:
 
 
 @CLI_SETTINGS
-@given(name=st.sampled_from(sorted(SAMPLES) or ["none"]), case=GLTF_CASES)
+@given(name=st.sampled_from(sorted(SAMPLES)), case=GLTF_CASES)
 def test_asset_preview_on_corrupt_gltf(gltf_dir, capsys, name, case):
     path = gltf_dir / f"{next(_names)}_{name}"
     path.write_bytes(_corrupt(name, case))

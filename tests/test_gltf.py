@@ -1,7 +1,7 @@
 """glTF/GLB import: geometry, node transforms, colours, textures, frames, errors, cache.
 
-Real files: the Khronos glTF 2.0 sample models in ``shared/testdata/gltf`` (see SOURCES.md
-there), next to the repository checkout. Expectations that concern the file's content are
+Real files: the Khronos glTF 2.0 sample models in ``tests/data/gltf`` (sources and licences in
+SOURCES.md there). Expectations that concern the file's content are
 computed here from the raw JSON and buffers, independently of trimesh.
 """
 
@@ -28,11 +28,7 @@ from legent_gym.world.assets.gltf import (
 )
 from legent_gym.world.assets.model import Receptacle
 
-SAMPLES = Path(__file__).resolve().parents[2] / "shared" / "testdata" / "gltf"
-needs_samples = pytest.mark.skipif(
-    not (SAMPLES / "Box.gltf").is_file(),
-    reason=f"Khronos glTF sample files not found at {SAMPLES} (shared/ is not checked out)",
-)
+from .conftest import GLTF_SAMPLES as SAMPLES
 
 
 @pytest.fixture(autouse=True)
@@ -211,7 +207,6 @@ def test_frame_conversion_is_a_rotation():
     np.testing.assert_array_equal(GLTF_TO_ASSET @ [0, 0, 1], [0, 1, 0])  # glTF front -> our front
 
 
-@needs_samples
 def test_box_colour_frame_and_winding():
     model = load_gltf(sample("Box"))
     assert model.triangle_count() == 12 and len(model.base.parts) == 1
@@ -226,7 +221,6 @@ def test_box_colour_frame_and_winding():
     assert model.category == "box" and model.names == ["box"]
 
 
-@needs_samples
 def test_simple_meshes_two_instances_of_one_mesh():
     model = load_quiet(sample("SimpleMeshes"))
     # One triangle (0,0,0) (1,0,0) (0,1,0), instanced at the origin and at translation x + 1.
@@ -236,7 +230,6 @@ def test_simple_meshes_two_instances_of_one_mesh():
     np.testing.assert_allclose(model.bounds(), expected_bounds(doc), atol=1e-6)
 
 
-@needs_samples
 def test_orientation_test_node_transforms():
     model = load_gltf(sample("OrientationTest"))
     doc = json.loads(sample("OrientationTest").read_text())
@@ -249,7 +242,6 @@ def test_orientation_test_node_transforms():
     assert dist.min(axis=1).max() < 1e-4 and dist.min(axis=0).max() < 1e-4
 
 
-@needs_samples
 def test_triangle_without_indices():
     model = load_quiet(sample("TriangleWithoutIndices"))
     assert model.triangle_count() == 1
@@ -288,7 +280,6 @@ def test_flat_model_warns_it_has_no_collision(tmp_path):
     assert [p.collision for p in model.base.parts] == ["box"]
 
 
-@needs_samples
 def test_textured_box_keeps_texture_and_flips_v():
     model = load_gltf(sample("BoxTextured"))
     part = model.base.parts[0]
@@ -304,7 +295,6 @@ def test_textured_box_keeps_texture_and_flips_v():
     assert part.rgba == (1.0, 1.0, 1.0, 1.0)
 
 
-@needs_samples
 def test_vertex_colours_are_averaged():
     model = load_gltf(sample("BoxVertexColors"))
     doc = json.loads(sample("BoxVertexColors").read_text())
@@ -320,7 +310,6 @@ def test_vertex_colours_are_averaged():
     assert part.rgba[3] == 1.0 and part.texture is None
 
 
-@needs_samples
 def test_rigged_simple_imports_static_mesh_and_up_axis():
     model = load_gltf(sample("RiggedSimple"))
     assert model.triangle_count() == 188
@@ -422,7 +411,6 @@ def test_undecodable_image_warns_and_keeps_base_colour(tmp_path):
 # --- size, annotations ----------------------------------------------------------------
 
 
-@needs_samples
 def test_size_scales_uniformly_to_fit():
     model = load_gltf(sample("Box"), size=(2.0, 4.0, 0.4))
     np.testing.assert_allclose(model.size, [0.4, 0.4, 0.4], atol=1e-6)
@@ -435,7 +423,6 @@ def test_size_scales_uniformly_to_fit():
     assert native.size[2] == pytest.approx(1.0)
 
 
-@needs_samples
 def test_default_annotations_of_a_large_box():
     model = load_gltf(sample("Box"))
     assert not model.pickupable and model.placement == "wall"
@@ -446,7 +433,6 @@ def test_default_annotations_of_a_large_box():
     assert top.half_size == pytest.approx((0.48, 0.48))
 
 
-@needs_samples
 def test_explicit_annotations():
     model = load_gltf(sample("Box"), category="crate", names=["crate", "red box"], pickupable=True,
                       mass=3.0, placement="middle", rooms=["garage"],

@@ -9,7 +9,7 @@ from pydantic import BaseModel
 
 from legent_gym.llm import ChatClient, EndpointError, ReplyError
 
-from .chat_server import ReplayServer, closed_port
+from .chat_server import HOLD_SECONDS, ReplayServer, closed_port
 
 
 class Pair(BaseModel):
@@ -117,11 +117,12 @@ def test_client_errors_are_not_retried():
 
 
 def test_timeouts_bound_the_whole_reply():
-    with ReplayServer([("slow", 2.0, "late"), ("drip", 3.0)]) as server:
+    with ReplayServer([("held", "late"), ("drip", HOLD_SECONDS)]) as server:
         started = time.monotonic()
         with pytest.raises(EndpointError, match=r"failed 2 time\(s\) \(last: no reply within 0.4 s\)"):
             _client(server, timeout=0.4, max_retries=1).complete([{"role": "user", "content": "x"}])
-        assert time.monotonic() - started < 1.8
+        # Far above the 2 x 0.4 s it takes; a timeout per read would wait for the whole drip.
+        assert time.monotonic() - started < HOLD_SECONDS / 2
 
 
 def test_a_huge_reply_is_refused_at_once():

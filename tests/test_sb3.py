@@ -37,7 +37,20 @@ def test_flat_action_maps_to_action_code():
 def test_short_ppo_run():
     from stable_baselines3 import PPO
 
-    model = PPO("MultiInputPolicy", _env(), n_steps=32, batch_size=16, n_epochs=1, seed=0, device="cpu")
+    from legent_gym.agent.actions import parse_actions
+
+    env = _env()
+    model = PPO("MultiInputPolicy", env, n_steps=32, batch_size=16, n_epochs=1, seed=0, device="cpu")
+    before = {k: v.clone() for k, v in model.policy.state_dict().items()}
     model.learn(total_timesteps=64)
+    assert model.num_timesteps == 64
+    # The episodes PPO played (Monitor's records): the dense reward is -0.01 a step plus the
+    # change of distance to the user, so the agent moved in them.
+    episodes = list(model.ep_info_buffer)
+    assert episodes and all(ep["l"] == 25 or ep["r"] > 9 for ep in episodes)  # time limit, or success (+10)
+    assert any(abs(ep["r"] + 0.01 * ep["l"]) > 0.05 for ep in episodes)
+    after = model.policy.state_dict()
+    assert any(not (before[k] == after[k]).all() for k in before)  # the updates moved the weights
     action, _ = model.predict(_env().reset(seed=0)[0], deterministic=True)
-    assert action.shape == (4,)
+    assert env.action_space.contains(action.astype(env.action_space.dtype))
+    assert parse_actions(env.action(action))  # the learned policy's action is action code the env runs

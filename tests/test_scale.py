@@ -103,26 +103,15 @@ def _wait_for_episodes(out, count: int, proc: subprocess.Popen | None = None, ti
     assert _committed(out) >= count, proc.stdout.read().decode()[-3000:] if proc is not None else "too slow"
 
 
-def _ray_tasks_running() -> list:
-    """The Ray worker processes of this test's cluster that are running a call now."""
-    import psutil
-
-    running = []
-    for child in psutil.Process().children(recursive=True):
-        try:
-            if child.cmdline()[:1] == ["ray::_run_call"]:
-                running.append(child)
-        except psutil.Error:
-            pass
-    return running
-
-
 _inits = 0
 
 
-def _count_init() -> None:
+def _count_init(log: str) -> None:
+    """Counts this process's initializer runs, and logs its process id to ``log``."""
     global _inits
     _inits += 1
+    with open(log, "a") as f:
+        f.write(f"{os.getpid()}\n")
 
 
 def _step(kind: str, seconds: float):
@@ -134,18 +123,23 @@ def _step(kind: str, seconds: float):
 
 
 @needs_ray
-def test_the_ray_map_keeps_order_sets_up_each_worker_once_and_raises_early(ray_address):
+def test_the_ray_map_keeps_order_sets_up_each_worker_once_and_raises_early(ray_address, tmp_path):
     calls = [("a", 0.6), ("b", 0.0), ("c", 0.3), ("d", 0.0), ("e", 0.0), ("f", 0.2)]
-    first = list(map_ordered(_step, calls, workers=2, initializer=_count_init, backend="ray"))
+    logs = [tmp_path / "first.log", tmp_path / "again.log"]
+    first = list(map_ordered(_step, calls, workers=2, initializer=_count_init, initargs=(str(logs[0]),),
+                             backend="ray"))
     assert [kind for kind, _, _ in first] == ["a", "b", "c", "d", "e", "f"]
-    # The initializer ran once per worker process for this map, before its first call...
-    per_worker = {pid: {n for _, p, n in first if p == pid} for _, pid, _ in first}
-    assert all(len(counts) == 1 and min(counts) >= 1 for counts in per_worker.values())
-    # ...and runs again for the next map, in workers that stay.
-    again = list(map_ordered(_step, calls[:2], workers=1, initializer=_count_init, backend="ray"))
-    for _, pid, n in again:
-        if pid in per_worker:
-            assert n == min(per_worker[pid]) + 1
+    again = list(map_ordered(_step, calls[:2], workers=1, initializer=_count_init, initargs=(str(logs[1]),),
+                             backend="ray"))
+    assert [kind for kind, _, _ in again] == ["a", "b"]
+    # The initializer ran once in each worker process of each map (a process that stays from
+    # the first map runs it again for the next), before that process's first call: each call
+    # sees as many runs in its process as the logs of the maps so far hold for it.
+    ran_first, ran_again = logs[0].read_text().split(), logs[1].read_text().split()
+    assert sorted(ran_first) == sorted({str(pid) for _, pid, _ in first})
+    assert sorted(ran_again) == sorted({str(pid) for _, pid, _ in again})
+    assert all(n == ran_first.count(str(pid)) for _, pid, n in first)
+    assert all(n == ran_first.count(str(pid)) + ran_again.count(str(pid)) for _, pid, n in again)
 
     began = time.monotonic()
     with pytest.raises(ValueError, match="failed after 0.1 s"):
@@ -162,35 +156,56 @@ def test_ray_collects_the_episodes_of_the_process_backend(ray_address, reference
     _same_episodes(out, reference)
 
 
+def _stopping_expert(gate: str, house_seed: int):
+    """The expert, except that its first call in the house ``house_seed`` writes its process
+    id to ``gate/caught`` and waits there to be killed (a retry of that attempt finds the
+    file and plays on). Pickled by value (a closure), so Ray's workers get the gate."""
+    def policy(obs, info):
+        if info["house_seed"] == house_seed:
+            mine = os.path.join(gate, f"pid.{os.getpid()}")
+            with open(mine, "w") as f:
+                f.write(str(os.getpid()))
+            try:
+                os.link(mine, os.path.join(gate, "caught"))  # made whole, and by one call only
+            except FileExistsError:
+                return info["expert_action"]
+            time.sleep(600)
+            raise RuntimeError("the test did not kill the worker in 600 s")
+        return info["expert_action"]
+    return policy
+
+
 @needs_ray
 def test_a_ray_worker_killed_mid_collection_is_retried(ray_address, reference, tmp_path):
-    out, errors = tmp_path / "ray", []
+    """The worker running attempt 5 is killed while it runs it: the policy holds that call
+    until the test has killed its process, so the kill always lands mid-collection."""
+    import gymnasium as gym
+
+    with gym.make(ENV_ID, **SMALL) as env:
+        house_seed = env.reset(seed=5)[1]["house_seed"]
+    out, gate, errors = tmp_path / "ray", tmp_path / "gate", []
+    gate.mkdir()
 
     def run() -> None:
         try:
-            collect(CollectConfig(ENV_ID, N, str(out), formats=FORMATS, workers=2, env_kwargs=SMALL, backend="ray"),
-                    show_progress=False)
+            collect(CollectConfig(ENV_ID, N, str(out), formats=FORMATS, workers=2, env_kwargs=SMALL, backend="ray",
+                                  dataset_id=DATASET_ID),
+                    policy=_stopping_expert(str(gate), house_seed), show_progress=False)
         except BaseException as err:  # noqa: BLE001  (reported below)
             errors.append(err)
 
     driver = threading.Thread(target=run)
     driver.start()
     try:
-        _wait_for_episodes(out, 3)
-        killed = None
-        deadline = time.monotonic() + 60
-        while killed is None and time.monotonic() < deadline and driver.is_alive():
-            running = _ray_tasks_running()
-            if running:
-                killed = running[0]
-                os.kill(killed.pid, signal.SIGKILL)  # a worker process of the cluster this test started
-            time.sleep(0.01)
-        assert killed is not None, "no Ray worker was running a call"
-        assert _committed(out) < N, "the worker was killed after the collection ended"
+        deadline = time.monotonic() + 300
+        while not (gate / "caught").is_file() and driver.is_alive() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        pid = int((gate / "caught").read_text())
+        assert _committed(out) <= 5  # attempt 5 is running: it and those after it are not committed
+        os.kill(pid, signal.SIGKILL)  # a worker process of the cluster this test started
     finally:
         driver.join(timeout=300)
     assert not driver.is_alive() and not errors, errors
-    killed.wait(timeout=10)  # it is gone, and the collection went on without it
     assert _check_whole(out, expected=N) == N
     _same_episodes(out, reference)
 

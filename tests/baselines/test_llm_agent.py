@@ -23,7 +23,7 @@ from baselines.llm_agent import (
     main,
 )
 from legent_gym.agent.actions import ActionParseError
-from tests.chat_server import ReplayServer
+from tests.chat_server import HOLD_SECONDS, ReplayServer
 
 ENV_ID = "Legent/ComeHere-OneRoom-v0"
 
@@ -192,12 +192,12 @@ def test_server_errors_and_rate_limits_are_retried_with_backoff():
 
 
 def test_slow_reply_times_out_and_is_retried():
-    with FakeChatServer([("slow", 1.5, "rotate_right(10)"), ("reply", "move_forward(1)")]) as server:
+    with FakeChatServer([("held", "rotate_right(10)"), ("reply", "move_forward(1)")]) as server:
         agent = _agent(server, timeout=0.3, max_retries=1)
         agent.reset("Come here.")
         started = time.monotonic()
         assert agent.act({"rgb": np.zeros((8, 8, 3), np.uint8)}) == "move_forward(1)"
-        assert time.monotonic() - started < 1.4  # it did not wait for the slow reply
+        assert time.monotonic() - started < HOLD_SECONDS / 2  # it did not wait for the held reply
     assert agent.steps[0].errors == ["no reply within 0.3 s"]
 
 
