@@ -19,7 +19,15 @@ import pytest
 
 import legent_gym  # noqa: F401  (registers the ids)
 from legent_gym.multiagent import make_single_agent
-from legent_gym.wrappers import ExpertInfo, ExpertPolicy
+from legent_gym.wrappers import (
+    ExpertInfo,
+    ExpertPolicy,
+    FlatActions,
+    InstructionTokens,
+    InterleavedHistory,
+)
+
+from .conftest import EXAMPLES
 
 ENV_ID = "Legent/ComeHere-OneRoom-v0"
 SIZE = 32
@@ -118,6 +126,28 @@ def test_expert_policy_outside_a_collector_records_the_experts_demonstrations(da
     recovered.close()
 
 
+def test_recover_environment_rebuilds_our_wrapper_stack_with_its_arguments(datasets):
+    stack = FlatActions(InstructionTokens(InterleavedHistory(ExpertInfo(gym.make(ENV_ID, width=SIZE, height=SIZE),
+                                                                        "scan"), k=2), max_tokens=8))
+    env = minari.DataCollector(stack, jpeg_encoding=False)
+    env.reset(seed=5)
+    for action in ([0.5, -0.2, 0.0, 0.0], [0.1, 0.9, 0.1, 1.0]):
+        env.step(np.asarray(action, np.float32))
+    dataset = env.create_dataset("legent/ComeHere-OneRoom/stack-v0")
+    env.close()
+    recovered = dataset.recover_environment()
+    assert [(w.name, w.kwargs) for w in recovered.spec.additional_wrappers] == [
+        ("ExpertInfo", {"find_strategy": "scan"}), ("InterleavedHistory", {"k": 2, "max_text": 4000}),
+        ("InstructionTokens", {"vocab_size": 1024, "max_tokens": 8}), ("FlatActions", {})]
+    (episode, seed), = _episodes(dataset)
+    obs, _ = recovered.reset(seed=seed)
+    for n in range(len(episode.actions)):
+        obs, *_ = recovered.step(episode.actions[n])
+        assert np.array_equal(obs["history_rgb"], episode.observations["history_rgb"][n + 1])
+        assert np.array_equal(obs["instruction"], episode.observations["instruction"][n + 1])
+    recovered.close()
+
+
 def test_minari_default_jpeg_images_differ_from_a_replay(datasets):
     """Why the docs say ``jpeg_encoding=False``: Minari's default stores JPEG images, which a
     replay of the same episode does not give back."""
@@ -175,6 +205,18 @@ def test_one_info_schema_at_reset_and_every_step_of_every_episode(env_id):
     _same_schema(lambda: ExpertPolicy(gym.make(env_id, width=SIZE, height=SIZE, action_type="continuous",
                                                distance_info=False, frames_per_step=2)),
                  lambda info, n: None, seeds=(0, 1))
+
+
+def test_one_info_schema_in_a_custom_env_of_several_tasks():
+    """Legent/Custom-v0 draws another kind of task each episode: still the same keys and types."""
+    tasks = [{"kind": "come", "instruction": "Come here.", "code": "goto_user()"},
+             {"kind": "where", "instruction": "Where is the apple?", "code": "find(26) speak('It is on the bed.')",
+              "target": 26, "receptacle": 0},
+             {"kind": "take", "instruction": "Take the book.", "code": "goto(35) target(35) interact()", "target": 35}]
+    _same_schema(lambda: ExpertInfo(gym.make("Legent/Custom-v0", scene=str(EXAMPLES / "two_room_furnished.json"),
+                                             tasks=tasks, task_options={"order": "sequential"},
+                                             width=SIZE, height=SIZE)),
+                 _mixed, seeds=(0, 1, 2), steps=3)
 
 
 @pytest.mark.parametrize("learner", ["agent", "user"])

@@ -107,12 +107,12 @@ class HouseholdEnv(gym.Env):
 
     * ``agent_pose``, ``user_pose``: (x, y, yaw, pitch); ``held``: the agent's object id
       (-1: nothing);
-    * ``task``: ``name`` and the goal's ``target`` and ``receptacle`` object ids (-1 where
-      the task has none); WhereIs adds ``answers``, the names its success accepts joined
-      by "|";
+    * ``task``: ``name``, the goal's ``target`` and ``receptacle`` object ids (-1 where the
+      task has none) and ``answers``, the names WhereIs's success accepts joined by "|" (""
+      for the other tasks): the same keys for every task, so ``Legent/Custom-v0`` too;
     * ``success``; ``distance_to_goal``: geodesic metres to the current sub-goal (-1 with
-      ``distance_info=False``); the task's own: ComeHere ``distance_to_user``, WhereIs
-      ``answers``;
+      ``distance_info=False``); ``distance_to_user``: horizontal metres from the agent to
+      the user (ComeHere's success: under 2);
     * ``action_text``: the step as action code; ``action_ok``: it parsed and every
       primitive succeeded; ``action_results``: one ``code: ok`` or ``code: failed
       (reason)`` per primitive, joined by "; "; ``action_error``: why it did not parse,
@@ -370,6 +370,7 @@ class HouseholdEnv(gym.Env):
             "scene_name": ctx.scene.name,
             "n_actions": self._n_actions,
             "attempts": self._attempts,
+            "distance_to_user": float(ctx.agent.horizontal_distance(ctx.user.xy)),
             **action_info([], [], ""),
             **info_values(evaluation.info),
         }

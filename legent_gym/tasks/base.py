@@ -189,7 +189,10 @@ class TaskInstance(ABC):
         envs ask only when a reward or the caller needs it."""
 
     def describe(self) -> dict[str, Any]:
-        return {"target": getattr(self, "target", None), "receptacle": getattr(self, "receptacle", None)}
+        """The goal's object ids (None where the task has none) and the answers it accepts
+        (WhereIs; else empty): the same keys for every task."""
+        return {"target": getattr(self, "target", None), "receptacle": getattr(self, "receptacle", None),
+                "answers": list(getattr(self, "answers", ()))}
 
 
 class Task(ABC):

@@ -219,13 +219,10 @@ class WhereIsInstance(TaskInstance):
     def evaluate(self, ctx):
         done = _said(ctx, list(self.answers))
         # Any speech ends the episode, right or wrong (LEGENT).
-        return Evaluation(done, bool(ctx.speech), {"answers": list(self.answers)})
+        return Evaluation(done, bool(ctx.speech))
 
     def distance_left(self, ctx):
         return _object_distance(ctx, self.target)
-
-    def describe(self):
-        return {**super().describe(), "answers": list(self.answers)}
 
 
 #: LEGENT's Where Is data (the objects and receptacles of LEGENT's released Where Is task data): these objects ...

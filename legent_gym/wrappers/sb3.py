@@ -36,11 +36,12 @@ def tokenize(text: str, vocab_size: int, max_tokens: int) -> np.ndarray:
     return out
 
 
-class InstructionTokens(gym.ObservationWrapper):
+class InstructionTokens(gym.ObservationWrapper, gym.utils.RecordConstructorArgs):
     """Every Text observation becomes a Box of ``max_tokens`` word ids (0 = padding)."""
 
     def __init__(self, env: gym.Env, vocab_size: int = 1024, max_tokens: int = 16):
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self, vocab_size=vocab_size, max_tokens=max_tokens)
+        gym.ObservationWrapper.__init__(self, env)
         self.vocab_size, self.max_tokens = vocab_size, max_tokens
         source = env.observation_space
         if not isinstance(source, spaces.Dict):
@@ -68,7 +69,7 @@ def tokenize_texts(observation: dict, source: spaces.Dict, vocab_size: int, max_
     return out
 
 
-class FlatActions(gym.ActionWrapper):
+class FlatActions(gym.ActionWrapper, gym.utils.RecordConstructorArgs):
     """A ``Box(-1, 1, (4,))`` action: [move, turn right, tilt down, interact].
 
     move -1..1 maps to 0..max metres; turn and tilt to +-max degrees; interact happens when
@@ -76,7 +77,8 @@ class FlatActions(gym.ActionWrapper):
     """
 
     def __init__(self, env: gym.Env):
-        super().__init__(env)
+        gym.utils.RecordConstructorArgs.__init__(self)
+        gym.ActionWrapper.__init__(self, env)
         self.action_space = spaces.Box(-1.0, 1.0, (4,), np.float32)
         episode = getattr(env.unwrapped, "episode", None)  # HouseholdEnv's, SingleAgentEnv's
         if episode is None:
