@@ -577,6 +577,17 @@ def build_spec(scene: Scene, options: BuildOptions | None = None) -> tuple[mujoc
     return builder.spec, builder
 
 
+def _ids(model: mujoco.MjModel, kind: mujoco.mjtObj):
+    """A function from a name to the id of the model's element of ``kind`` (mj_name2id:
+    without the accessor object ``model.body(name)`` makes); KeyError for a missing name."""
+    def element_id(name: str) -> int:
+        found = mujoco.mj_name2id(model, kind, name)
+        if found < 0:
+            raise KeyError(f"no {kind.name[6:].lower()} named {name!r} in the model")
+        return found
+    return element_id
+
+
 def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
     """Build a scene into a MuJoCo model and data, with its maps back to scene ids."""
     options = options or BuildOptions()
@@ -589,34 +600,39 @@ def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
 
     geom_object = np.full(model.ngeom, -1, dtype=np.int32)
     geom_door: dict[int, str] = {}
-    for gid in range(model.ngeom):
-        name = model.geom(gid).name
+    # Every geom's name, read off the model's name buffer at once (model.geom(i) makes an
+    # accessor object per geom, which costs more than the rest of this loop).
+    raw = model.names
+    geom_names = [raw[a:raw.index(b"\0", a)].decode() for a in model.name_geomadr.tolist()]
+    for gid, name in enumerate(geom_names):
         if name.startswith("obj_"):
             geom_object[gid] = int(name.split("_", 2)[1])
         elif name.startswith("door_"):
             for door in scene.doors:
                 if name.startswith(f"door_{door.id}_") or name == f"door_{door.id}":
                     geom_door[gid] = door.id
-    object_body = {o.id: model.body(f"obj_{o.id}").id for o in scene.objects}
+    body_id = _ids(model, mujoco.mjtObj.mjOBJ_BODY)
+    joint_id = _ids(model, mujoco.mjtObj.mjOBJ_JOINT)
+    object_body = {o.id: body_id(f"obj_{o.id}") for o in scene.objects}
     object_joints: dict[int, dict[str, int]] = {}
     for obj in scene.objects:
         for link in b.assets[obj.id].links:
             if link.joint is not None:
-                jid = model.joint(f"obj_{obj.id}_{link.name}_joint").id
+                jid = joint_id(f"obj_{obj.id}_{link.name}_joint")
                 object_joints.setdefault(obj.id, {})[link.name] = jid
                 if link.name in obj.joints:
                     data.qpos[model.jnt_qposadr[jid]] = obj.joints[link.name]
     door_joint, door_body = {}, {}
     for door in scene.doors:
         if door.leaf:
-            jid = model.joint(f"door_{door.id}_hinge").id
+            jid = joint_id(f"door_{door.id}_hinge")
             door_joint[door.id] = jid
-            door_body[door.id] = model.body(f"door_{door.id}").id
+            door_body[door.id] = body_id(f"door_{door.id}")
             data.qpos[model.jnt_qposadr[jid]] = b.door_initial[door.id]
     free = [o.id for o in scene.objects if o.kind == "interactable"]
     geom_segment = geom_object.copy()
     for who, segment_id in PERSON_SEGMENTATION_ID.items():
-        root = model.body(who).id
+        root = body_id(who)
         geom_segment[model.body_rootid[model.geom_bodyid] == root] = segment_id
     world = World(scene, model, data, b.assets, object_body, object_joints, door_joint, door_body,
                   geom_object, geom_door, b.palette, options, free, geom_segment)

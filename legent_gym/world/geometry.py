@@ -306,6 +306,9 @@ def inside_polygon(x: np.ndarray, y: np.ndarray, poly: np.ndarray) -> np.ndarray
         if ya == yb:
             continue
         crosses = (ya > y) != (yb > y)
+        if xa == xb:  # a vertical edge: x_at below is xa plus a zero, which compares as xa
+            inside ^= crosses & (x < xa)
+            continue
         x_at = xa + (y - ya) * (xb - xa) / (yb - ya)
         inside ^= crosses & (x < x_at)
     return inside
@@ -356,8 +359,7 @@ def is_floor_furniture(obj: ObjectInstance) -> bool:
 
 def local_footprint(model: AssetModel) -> np.ndarray:
     """Box ``(x0, y0, x1, y1)`` of an asset model's footprint in its own frame."""
-    b = model.bounds()
-    return np.array([b[0, 0], b[0, 1], b[1, 0], b[1, 1]])
+    return model.footprint()
 
 
 def asset_local_bounds(scene: Scene | None, obj: ObjectInstance) -> np.ndarray | None:

@@ -12,6 +12,7 @@ person stands to use it) facing +y. Units: metres.
 
 from __future__ import annotations
 
+from collections.abc import Hashable
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Literal
@@ -43,6 +44,19 @@ class Part:
         if self.uv is not None:
             self.uv = np.asarray(self.uv, dtype=np.float64).reshape(-1, 2)
 
+    @classmethod
+    def exact(cls, vertices: np.ndarray, faces: np.ndarray, rgba: tuple[float, float, float, float],
+              collision: Collision, uv: np.ndarray | None = None, texture: np.ndarray | None = None,
+              material: str = "plain") -> Part:
+        """``Part(...)`` of arrays already in its types and shapes (float64 (N, 3), int32
+        (M, 3), float64 (N, 2) or None), taken as they are: the asset factories make
+        thousands of parts while houses are generated, and the conversions cost more than
+        the rest of a small part."""
+        part = cls.__new__(cls)
+        part.__dict__.update(vertices=vertices, faces=faces, rgba=rgba, collision=collision, uv=uv,
+                             texture=texture, material=material)
+        return part
+
     def bounds(self) -> np.ndarray:
         return np.stack([self.vertices.min(axis=0), self.vertices.max(axis=0)])
 
@@ -50,7 +64,13 @@ class Part:
         """A copy with vertices mapped by a 4x4 homogeneous transform."""
         v = self.vertices @ matrix[:3, :3].T + matrix[:3, 3]
         faces = self.faces if _det3(matrix[:3, :3].tolist()) > 0 else self.faces[:, ::-1]
-        return Part(v, faces.copy(), self.rgba, self.collision, self.uv, self.texture, self.material)
+        return Part.exact(v, faces.copy(), self.rgba, self.collision, self.uv, self.texture, self.material)
+
+
+def _bounds(model: AssetModel) -> np.ndarray:
+    pts = [p.vertices + np.asarray(link.pos) for link in model.links for p in link.parts]
+    allv = np.concatenate(pts)
+    return np.stack([allv.min(axis=0), allv.max(axis=0)])
 
 
 def _det3(m: list[list[float]]) -> float:
@@ -130,17 +150,23 @@ class AssetModel:
 
     def bounds(self) -> np.ndarray:
         """[[xmin, ymin, zmin], [xmax, ymax, zmax]] of all parts at the joints' zero."""
-        # Generation and the agent ask for the bounds of the same model many times: keep
-        # them, keyed by the link and part lists (models are immutable by convention; a
-        # replaced or extended list still gives fresh bounds). A copy goes out.
+        return self.derived("bounds", _bounds).copy()  # a copy goes out
+
+    def footprint(self) -> np.ndarray:
+        """``(x0, y0, x1, y1)``: the bounds' box on the floor, in the asset frame (a copy)."""
+        return self.derived("footprint", lambda m: m.derived("bounds", _bounds)[:, :2].reshape(-1)).copy()
+
+    def derived(self, name: Hashable, compute):
+        """``compute(self)``, kept with the model: generation and the agent ask for the same
+        facts of a model (its bounds, footprint, turned footprints) many times. Models are
+        immutable by convention; a replaced or extended link or part list still gives a
+        fresh value (the cache is keyed by those lists). Callers must not change it."""
         key = tuple((id(link.parts), len(link.parts), link.pos) for link in self.links)
-        cached = self.__dict__.get("_bounds_cache")
-        if cached is None or cached[0] != key:
-            pts = [p.vertices + np.asarray(link.pos) for link in self.links for p in link.parts]
-            allv = np.concatenate(pts)
-            cached = (key, np.stack([allv.min(axis=0), allv.max(axis=0)]))
-            self.__dict__["_bounds_cache"] = cached
-        return cached[1].copy()
+        store = self.__dict__.setdefault("_derived", {})
+        hit = store.get(name)
+        if hit is None or hit[0] != key:
+            hit = store[name] = (key, compute(self))
+        return hit[1]
 
     @property
     def size(self) -> np.ndarray:
@@ -191,27 +217,32 @@ _BOX_FACES = np.array([
 
 def box_part(center, size, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="box", material="plain") -> Part:
     """An axis-aligned box, 12 triangles."""
-    cx, cy, cz = (float(c) for c in center)
-    hx, hy, hz = (float(d) / 2.0 for d in size)
-    return Part(box_vertices(cx, cy, cz, hx, hy, hz), _BOX_FACES.copy(), tuple(rgba), collision, material=material)
+    cx, cy, cz = center
+    sx, sy, sz = size
+    return Part.exact(box_vertices(float(cx), float(cy), float(cz), float(sx) / 2.0, float(sy) / 2.0,
+                                   float(sz) / 2.0), _BOX_FACES.copy(), tuple(rgba), collision, material=material)
 
 
 def box_between(lo, hi, rgba=(0.7, 0.7, 0.7, 1.0), *, collision="box", material="plain") -> Part:
     """The axis-aligned box spanning corners ``lo`` .. ``hi``: ``box_part((lo + hi) / 2,
     hi - lo, ...)``, in scalar arithmetic."""
-    (x0, y0, z0), (x1, y1, z1) = (float(v) for v in lo), (float(v) for v in hi)
+    x0, y0, z0 = lo
+    x1, y1, z1 = hi
+    x0, y0, z0, x1, y1, z1 = float(x0), float(y0), float(z0), float(x1), float(y1), float(z1)
     vertices = box_vertices((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2,
                             (x1 - x0) / 2.0, (y1 - y0) / 2.0, (z1 - z0) / 2.0)
-    return Part(vertices, _BOX_FACES.copy(), tuple(rgba), collision, material=material)
+    return Part.exact(vertices, _BOX_FACES.copy(), tuple(rgba), collision, material=material)
+
+
+#: Which of (x0, x1, y0, y1, z0, z1) each coordinate of the eight corners is.
+_BOX_PICK = np.array([[0, 2, 4], [0, 2, 5], [0, 3, 4], [0, 3, 5], [1, 2, 4], [1, 2, 5], [1, 3, 4], [1, 3, 5]])
 
 
 def box_vertices(cx: float, cy: float, cz: float, hx: float, hy: float, hz: float) -> np.ndarray:
     """The corners (in ``_BOX_CORNERS`` order) of the box centred at (cx, cy, cz) with half
     sizes (hx, hy, hz): ``c + _BOX_CORNERS * h`` in scalar arithmetic (``c + (-1 * h)`` is
     ``c - h`` to the bit), which costs a fraction of the array expression for one box."""
-    x0, x1, y0, y1, z0, z1 = cx - hx, cx + hx, cy - hy, cy + hy, cz - hz, cz + hz
-    return np.array([[x0, y0, z0], [x0, y0, z1], [x0, y1, z0], [x0, y1, z1],
-                     [x1, y0, z0], [x1, y0, z1], [x1, y1, z0], [x1, y1, z1]])
+    return np.array([cx - hx, cx + hx, cy - hy, cy + hy, cz - hz, cz + hz]).take(_BOX_PICK)
 
 
 @lru_cache(maxsize=64)
@@ -244,7 +275,7 @@ def cylinder_part(center, radius, height, rgba=(0.7, 0.7, 0.7, 1.0), *, segments
     bottom = np.column_stack([ring * radius, np.full(segments, -height / 2)])
     top = np.column_stack([ring * rt, np.full(segments, height / 2)])
     v = np.concatenate([bottom, top, [[0, 0, -height / 2], [0, 0, height / 2]]]) + c
-    return Part(v, _cylinder_faces(segments).copy(), tuple(rgba), collision, material=material)
+    return Part.exact(v, _cylinder_faces(segments).copy(), tuple(rgba), collision, material=material)
 
 
 def sphere_part(center, radius, rgba=(0.7, 0.7, 0.7, 1.0), *, scale=(1.0, 1.0, 1.0), subdivisions=1,

@@ -19,6 +19,7 @@ from functools import lru_cache
 from typing import Any
 
 import numpy as np
+from numpy.random.bit_generator import ISeedSequence
 
 from legent_gym.world.assets.model import AssetModel
 
@@ -36,6 +37,8 @@ class AssetEntry:
 
 
 _ENTRIES: dict[str, AssetEntry] = {}
+#: Bumped by every change of the registry (see :func:`version`).
+_VERSION = 0
 
 
 class UnknownAssetError(KeyError):
@@ -54,7 +57,7 @@ def register(asset_id: str, factory: AssetFactory, *, builtin: bool = False, rep
     if asset_id in _ENTRIES and not replace:
         raise ValueError(f"asset id {asset_id!r} is already registered (pass replace=True to override)")
     _ENTRIES[asset_id] = AssetEntry(asset_id, factory, builtin, imported)
-    make.cache_clear()
+    _changed()
 
 
 def imported_entry(asset_id: str) -> Any:
@@ -65,7 +68,19 @@ def imported_entry(asset_id: str) -> Any:
 
 def unregister(asset_id: str) -> None:
     _ENTRIES.pop(asset_id, None)
+    _changed()
+
+
+def _changed() -> None:
+    global _VERSION
+    _VERSION += 1
     make.cache_clear()
+
+
+def version() -> int:
+    """A number that changes whenever an asset is registered or unregistered (what is
+    derived from the registry, such as the generator's catalog, is kept until it does)."""
+    return _VERSION
 
 
 def has(asset_id: str) -> bool:
@@ -82,6 +97,70 @@ def variant_rng(asset_id: str, variant: int) -> np.random.Generator:
     return np.random.default_rng([zlib.crc32(asset_id.encode()), int(variant)])
 
 
+#: Variants 0..VARIANTS-1 (those the house generator draws) of a built-in asset get
+#: :func:`variant_rng`'s generator from a table of seeds made once per asset.
+VARIANTS = 1000
+_SEEDS: dict[str, np.ndarray] = {}
+
+
+class _Seeded(ISeedSequence):
+    """A seed sequence that hands PCG64 the state words it was made with."""
+
+    __slots__ = ("words",)
+
+    def __init__(self, words: np.ndarray):
+        self.words = words
+
+    def generate_state(self, n_words: int, dtype=np.uint32) -> np.ndarray:
+        if n_words != 4 or np.dtype(dtype) != np.uint64:
+            raise ValueError("only PCG64's four 64-bit words are kept")
+        return self.words
+
+
+def _seed_table(entropy: int, n: int) -> np.ndarray:
+    """``SeedSequence([entropy, v]).generate_state(4, np.uint64)`` for v = 0..n-1, (n, 4):
+    NumPy's SeedSequence algorithm (a pool of four 32-bit words mixed by multiply-xorshift
+    hashes whose constants do not depend on the entropy), on all variants at once."""
+    mask = 0xFFFFFFFF
+    hash_a, hash_b = 0x43B0D7E5, 0x8B51F9DD
+    pool = [np.full(n, entropy, dtype=np.uint32), np.arange(n, dtype=np.uint32),
+            np.zeros(n, dtype=np.uint32), np.zeros(n, dtype=np.uint32)]
+
+    def hashmix(value: np.ndarray) -> np.ndarray:
+        nonlocal hash_a
+        value = value ^ np.uint32(hash_a)
+        hash_a = (hash_a * 0x931E8875) & mask
+        value = value * np.uint32(hash_a)
+        return value ^ (value >> np.uint32(16))
+
+    pool = [hashmix(word) for word in pool]
+    for src in range(4):
+        for dst in range(4):
+            if src != dst:
+                mixed: np.ndarray = pool[dst] * np.uint32(0xCA01F9DD) - hashmix(pool[src]) * np.uint32(0x4973F715)
+                pool[dst] = mixed ^ (mixed >> np.uint32(16))
+    words = []
+    for i in range(8):
+        value = pool[i % 4] ^ np.uint32(hash_b)
+        hash_b = (hash_b * 0x58F38DED) & mask
+        value = value * np.uint32(hash_b)
+        words.append((value ^ (value >> np.uint32(16))).astype(np.uint64))
+    return np.stack([words[k] | (words[k + 1] << np.uint64(32)) for k in range(0, 8, 2)], axis=1)
+
+
+def _builtin_rng(asset_id: str, variant: int) -> np.random.Generator:
+    """:func:`variant_rng`'s generator (the same stream), without its seed sequence's cost
+    for a variant of the table; its ``bit_generator.seed_seq`` is not a SeedSequence (the
+    built-in factories never spawn from it)."""
+    if not 0 <= variant < VARIANTS:
+        return variant_rng(asset_id, variant)
+    table = _SEEDS.get(asset_id)
+    if table is None:
+        table = _SEEDS[asset_id] = _seed_table(zlib.crc32(asset_id.encode()), VARIANTS)
+    # PCG64 takes any ISeedSequence; NumPy's type hints name SeedSequence only.
+    return np.random.Generator(np.random.PCG64(_Seeded(table[variant])))  # type: ignore[arg-type]
+
+
 #: Models :func:`make` keeps. A generated house asks for about 100 models, 25 of them
 #: distinct, and draws variants from a thousand per asset, so nearly every repeat is within
 #: one house: over 200 new TwoRoom houses, 72% of the calls hit with 256 kept and 76% with
@@ -95,7 +174,8 @@ def make(asset_id: str, variant: int = 0) -> AssetModel:
     entry = _ENTRIES.get(asset_id)
     if entry is None:
         raise UnknownAssetError(f"unknown asset id {asset_id!r}; known ids: {', '.join(asset_ids())}")
-    model = entry.factory(variant_rng(asset_id, variant))
+    rng = _builtin_rng(asset_id, int(variant)) if entry.builtin else variant_rng(asset_id, variant)
+    model = entry.factory(rng)
     if model.asset_id != asset_id:  # a factory shared by several ids: name this copy
         model = dataclasses.replace(model, asset_id=asset_id)
     return model

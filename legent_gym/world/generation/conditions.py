@@ -47,6 +47,8 @@ SYNONYMS: dict[str, tuple[str, ...]] = {
     "desk": ("table",),
 }
 _ARTICLES = re.compile(r"^(?:an?|the|some|one)\s+")
+#: registry version -> its catalog (see Catalog.from_registry).
+_CATALOG: dict[int, Catalog] = {}
 
 
 def normalise_name(text: str) -> str:
@@ -62,6 +64,8 @@ class Catalog:
     models: dict[str, AssetModel]
     by_category: dict[str, list[str]] = field(default_factory=dict)
     aliases: dict[str, list[str]] = field(default_factory=dict)
+    #: Facts generation derives from the catalog alone, kept (see furnish.extra_rules).
+    memo: dict[object, object] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for asset_id in sorted(self.models):
@@ -77,9 +81,16 @@ class Catalog:
 
     @classmethod
     def from_registry(cls) -> Catalog:
+        """The catalog of the registry as it is now (one object, shared, until the registry
+        changes: treat it as read-only)."""
         from legent_gym.world.assets import registry
 
-        return cls({a: registry.describe(a) for a in registry.asset_ids()})
+        version = registry.version()
+        cached = _CATALOG.get(version)
+        if cached is None:
+            _CATALOG.clear()
+            cached = _CATALOG[version] = cls({a: registry.describe(a) for a in registry.asset_ids()})
+        return cached
 
     @property
     def categories(self) -> list[str]:

@@ -231,6 +231,8 @@ class RoomSpace:
     pieces: list[int] = field(default_factory=list)
     reach: RoomReach | None = None
     _edges: list | None = field(default=None, repr=False, compare=False)  # the inner outline is fixed
+    _edge_arrays: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = field(
+        default=None, repr=False, compare=False)
 
     @property
     def bbox(self) -> np.ndarray:
@@ -248,6 +250,17 @@ class RoomSpace:
         if self._edges is None:
             self._edges = self._compute_edges()
         return self._edges
+
+    def edge_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`edges`' starts, directions and inward normals as (E, 2) arrays, and the
+        quarter turns that face each normal (E,)."""
+        if self._edge_arrays is None:
+            edges = self.edges()
+            self._edge_arrays = (np.array([e[0] for e in edges]).reshape(-1, 2),
+                                 np.array([e[1] for e in edges]).reshape(-1, 2),
+                                 np.array([e[2] for e in edges]).reshape(-1, 2),
+                                 np.array([quarter_turns_facing(e[2]) for e in edges], dtype=np.float64))
+        return self._edge_arrays
 
     def _compute_edges(self):
         poly = self.inner
@@ -489,26 +502,37 @@ class Furnisher:
         ``placement`` come first (preference 10); wall poses are the fallback."""
         placement = model.placement if model.placement in ("wall", "corner", "middle") else "wall"
         local = local_footprint(model)
-        poses: list[tuple[float, float, float, float]] = []
-        for p0, e, n, length, conv0, conv1 in space.edges():
-            q = quarter_turns_facing(n)
-            s_min, s_max = WALL_GAP - local[0], length - WALL_GAP - local[2]
-            if s_max < s_min:
-                continue
-            ends = [s for s, convex in ((s_min, conv0), (s_max, conv1)) if convex]
-            spots = [(s, 10.0 if placement == "corner" else 0.0) for s in ends]
-            spots += [(s, 10.0 if placement == "wall" else 0.0)
-                      for s in [0.5 * (s_min + s_max), *self.rng.uniform(s_min, s_max, n_random)]]
-            # All spots of the edge at once (the same arithmetic, element by element).
-            along = np.array([s for s, _ in spots], dtype=np.float64)[:, None]
-            o = p0 + e * along + n * (WALL_GAP - local[1])
-            poses.extend(zip(o[:, 0].tolist(), o[:, 1].tolist(), [q] * len(spots), [pref for _, pref in spots]))
+        edges = space.edges()
+        s_min = WALL_GAP - local[0]
+        fits = [k for k, edge in enumerate(edges) if not edge[3] - WALL_GAP - local[2] < s_min]
+        parts = []
+        if fits:
+            s_max = np.array([edges[k][3] - WALL_GAP - local[2] for k in fits])
+            # Every edge's random spots in one draw: the same numbers, edge after edge, as a
+            # draw per edge (a generator fills an array in order, element by element).
+            draws = self.rng.uniform(s_min, s_max[:, None], (len(fits), n_random))
+            at_end, at_wall = (10.0 if placement == "corner" else 0.0), (10.0 if placement == "wall" else 0.0)
+            along: list[float] = []
+            edge_of: list[int] = []
+            pref: list[float] = []
+            for i, k in enumerate(fits):
+                _, _, _, _, conv0, conv1 = edges[k]
+                ends = [s for s, convex in ((s_min, conv0), (s_max[i], conv1)) if convex]
+                spots = [*ends, 0.5 * (s_min + s_max[i]), *draws[i].tolist()]
+                along += spots
+                edge_of += [k] * len(spots)
+                pref += [at_end] * len(ends) + [at_wall] * (len(spots) - len(ends))
+            p0, e, n, q = space.edge_arrays()
+            rows = np.array(edge_of)
+            # All spots of all edges at once (the same arithmetic, element by element).
+            o = p0[rows] + e[rows] * np.array(along, dtype=np.float64)[:, None] + n[rows] * (WALL_GAP - local[1])
+            parts.append(np.column_stack([o, q[rows], pref]))
         if placement == "middle":
             bb = space.bbox
             pts = np.column_stack([self.rng.uniform(bb[0], bb[2], 40), self.rng.uniform(bb[1], bb[3], 40)])
             qs = self.rng.integers(0, 4, 40)
-            poses += [(x, y, q, 10.0) for (x, y), q in zip(pts, qs)]
-        return np.asarray(poses, dtype=np.float64).reshape(-1, 4)
+            parts.append(np.column_stack([pts, qs, np.full(40, 10.0)]))
+        return np.concatenate(parts).astype(np.float64) if parts else np.zeros((0, 4))
 
     # -- checking -----------------------------------------------------------------------
     def valid(self, space: RoomSpace, rects: np.ndarray, fronts: np.ndarray, tall: np.ndarray) -> np.ndarray:
@@ -594,14 +618,11 @@ class Furnisher:
         rects = np.zeros((c, len(members), 4))
         fronts = np.zeros((c, len(members), 4))
         for j, m in enumerate(members):
-            local = local_footprint(m.model)
             off = np.einsum("cij,j->ci", QUARTER_TURNS[qs % 4], np.array([m.dx, m.dy]))
             ox, oy = xs + off[:, 0], ys + off[:, 1]
             mq = (qs + m.dq) % 4
-            table = np.array([turned_rect(local, k) for k in range(4)])
             fz = float(m.model.front_clearance)
-            ftable = np.array([turned_rect(np.array([local[0], local[3], local[2], local[3] + fz]), k)
-                               for k in range(4)])
+            table, ftable = m.model.derived(("turned footprints", fz), _turned_footprints)
             base = np.column_stack([ox, oy, ox, oy])
             rects[:, j] = base + table[mq]
             fronts[:, j] = base + ftable[mq] if fz > 0 else 0.0
@@ -806,6 +827,18 @@ class Furnisher:
         return False
 
 
+def _turned_footprints(model: AssetModel) -> tuple[np.ndarray, np.ndarray]:
+    """(4, 4) footprint boxes of a model and of its front clearance zone, turned by 0..3
+    quarter turns (made once per model: every placement tries them all)."""
+    local = local_footprint(model)
+    fz = float(model.front_clearance)
+    table = np.array([turned_rect(local, k) for k in range(4)])
+    ftable = np.array([turned_rect(np.array([local[0], local[3], local[2], local[3] + fz]), k) for k in range(4)])
+    for a in (table, ftable):
+        a.flags.writeable = False
+    return table, ftable
+
+
 def fit_centered(rec: Receptacle, local: np.ndarray) -> np.ndarray | None:
     """Where to put an object's origin so its footprint is centred on a receptacle and
     backed toward its rear edge; None if it does not fit."""
@@ -832,6 +865,14 @@ def room_label(fp: FloorPlan, i: int) -> str:
 def extra_rules(catalog: Catalog, rtype: str) -> list[Rule]:
     """Optional rules for registered furniture categories the tables do not mention but
     whose ``rooms`` annotation names this room type (user assets join in)."""
+    key = ("extra rules", rtype)
+    rules = catalog.memo.get(key)
+    if rules is None:
+        rules = catalog.memo[key] = tuple(_extra_rules(catalog, rtype))
+    return list(cast(tuple[Rule, ...], rules))
+
+
+def _extra_rules(catalog: Catalog, rtype: str) -> list[Rule]:
     known = {r.category for prio, opt in ROOM_FURNITURE.values() for r in prio + opt}
     known |= {c for members in GROUP_MEMBERS.values() for c in members}
     out = []

@@ -208,7 +208,7 @@ def lathe(profile: Sequence[tuple[float, float]], rgba: RGBA, material: str, *,
         verts.append(np.array([[0.0, 0.0, profile[-1][1]]]))
     v = np.concatenate(verts) + np.asarray(center, dtype=np.float64)
     faces = _lathe_faces(segments, tuple(r > 1e-9 for r, _ in profile))
-    return Part(v, faces.copy(), rgba, collision, material=material)
+    return Part.exact(v, faces.copy(), rgba, collision, material=material)
 
 
 @lru_cache(maxsize=256)
@@ -269,7 +269,7 @@ def flatten_bottom(part: Part, depth: float) -> Part:
     v = part.vertices.copy()
     floor = v[:, 2].min() + depth
     v[:, 2] = np.maximum(v[:, 2], floor)
-    return Part(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
+    return Part.exact(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -309,6 +309,10 @@ def _xyz(point: np.ndarray) -> tuple[float, float, float]:
     return x, y, z
 
 
+_IDENTITY = np.eye(4)
+_IDENTITY.flags.writeable = False
+
+
 def _transformed_parts(parts: list[Part], vertices: np.ndarray, matrix: np.ndarray) -> list[Part]:
     """``[p.transformed(matrix) for p in parts]`` for a proper (det > 0) transform, in one
     matrix product over ``vertices`` (the parts' vertices concatenated): row by row the
@@ -317,7 +321,8 @@ def _transformed_parts(parts: list[Part], vertices: np.ndarray, matrix: np.ndarr
     out, start = [], 0
     for p in parts:
         n = len(p.vertices)
-        out.append(Part(moved[start:start + n], p.faces.copy(), p.rgba, p.collision, p.uv, p.texture, p.material))
+        out.append(Part.exact(moved[start:start + n], p.faces.copy(), p.rgba, p.collision, p.uv, p.texture,
+                              p.material))
         start += n
     return out
 
@@ -336,7 +341,7 @@ def finish(asset_id: str, base: list[Part], *, moving: Sequence[Link] = (),
                                      for m in moving if m.parts])
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     shift = np.array([-(lo[0] + hi[0]) / 2, -(lo[1] + hi[1]) / 2, -lo[2]])
-    move = np.eye(4)
+    move = _IDENTITY.copy()
     move[:3, 3] = shift
     out = [Link("base", _transformed_parts(base, base_v, move))]
     out += [Link(m.name, m.parts, _xyz(np.asarray(m.pos) + shift), m.joint)
