@@ -58,6 +58,8 @@ class TrainConfig:
     trajectories_per_batch: int = 16
     lr: float = 1e-3
     weight_decay: float = 0.01
+    #: Linear warm-up of the learning rate, at most half the run's optimizer steps (a short
+    #: run would otherwise end before the rate reaches ``lr``).
     warmup_steps: int = 100
     augment: bool = True
     #: Random shift of every training view by up to this many pixels (edge pixels repeated
@@ -240,10 +242,12 @@ def train(config: TrainConfig, *, resume: bool = False, show_progress: bool = Tr
     model.to(config.device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
 
+    warmup = min(config.warmup_steps, total_steps // 2)
+
     def lr_at(step: int) -> float:  # linear warm-up, then cosine to 5 %
-        if step < config.warmup_steps:
-            return (step + 1) / config.warmup_steps
-        progress = (step - config.warmup_steps) / max(total_steps - config.warmup_steps, 1)
+        if step < warmup:
+            return (step + 1) / warmup
+        progress = (step - warmup) / max(total_steps - warmup, 1)
         return 0.05 + 0.95 * 0.5 * (1 + math.cos(math.pi * min(progress, 1.0)))
 
     scheduler = torch.optim.lr_scheduler.LambdaLR(optimizer, lr_at)

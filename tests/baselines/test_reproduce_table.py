@@ -97,6 +97,12 @@ def test_small_scale_from_the_command_line(tmp_path):
     assert "| VLA-Joint 20 (ours) |" in done.stdout and "house seeds shared" in done.stdout
     assert "| VLA-Sep 20 + DAgger (ours) |" in done.stdout
     results = check_outputs(tmp_path, "small")
+    # The models learned: the large-set Sep models (each on its own task) and the Joint model
+    # succeed more often than the random policy on the training tasks, taken together.
+    rates = results["success_rates"]
+    random = sum(rates["Random"][task] for task in TRAIN_TASKS)
+    assert sum(rates["VLA-Sep 20 (ours)"][task] for task in TRAIN_TASKS) > random, rates
+    assert sum(rates["VLA-Joint 20 (ours)"][task] for task in TRAIN_TASKS) > random, rates
     # The run's figure (models, validation, phases, collections, DAgger rounds) reads that record.
     from baselines.figures import run_table
 
