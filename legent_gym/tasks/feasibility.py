@@ -76,9 +76,10 @@ _AIM_FRACTIONS = np.vstack([_AIM_FRACTIONS[[0, 25]],
 #: Rays cast at once: a chunk, then the next only if no ray of it served.
 _CHUNK = 16
 _SURFACE_FRACTIONS = np.array([(fx, fy) for fx in np.linspace(-0.8, 0.8, 5) for fy in np.linspace(-0.8, 0.8, 5)])
-_GRIDS: OrderedDict[tuple, tuple[NavGrid, NavGrid]] = OrderedDict()
-#: The planning grids without the user, per house and margin.
-_BASES: OrderedDict[tuple, tuple[NavGrid, NavGrid]] = OrderedDict()
+_GRIDS: OrderedDict[tuple, tuple[NavGrid, NavGrid | None]] = OrderedDict()
+#: The planning grids without the user, per house and margin (None: not made yet, the
+#: house seen once).
+_BASES: OrderedDict[tuple, tuple[NavGrid, NavGrid | None]] = OrderedDict()
 #: Planning grids kept (this episode's two margins, and the last one's), and the distance
 #: fields each keeps: a field of a FourRoom house is about a megabyte.
 _GRID_CACHE_SIZE, _FIELDS_PER_GRID = 4, 16
@@ -101,39 +102,57 @@ def planning_grid(ctx: TaskContext, margin: float = PLANNING_MARGIN) -> NavGrid:
     user = ctx.user.position if ctx.scene.user is not None else None
     key = (id(nav), margin, None if user is None else (round(float(user[0]), 2), round(float(user[1]), 2)))
     hit = _GRIDS.get(key)
-    if hit is not None:
+    if hit is not None and hit[1] is not None:
         _GRIDS.move_to_end(key)
         return hit[1]
-    # The grid without the user, made once per house and margin; the user's disc is added
-    # to it for each place the user stands (NavGrid.with_obstacles: the same grid, cheaper).
-    grid = _cached(_BASES, key[:2], nav, lambda: NavGrid(nav.origin, nav.resolution, nav.floor, nav.walls,
-                                                          nav.obstacles, nav.agent_radius + margin,
-                                                          scene=nav.scene, footprints=nav.footprints))
-    grid.cache_size = _FIELDS_PER_GRID
-    if user is not None:
+
+    def made(obstacles: np.ndarray) -> NavGrid:
+        return NavGrid(nav.origin, nav.resolution, nav.floor, nav.walls, obstacles, nav.agent_radius + margin,
+                       scene=nav.scene, footprints=nav.footprints)
+
+    if user is None:
+        grid = _cached(_BASES, key[:2], nav, lambda: made(nav.obstacles))
+    else:
         disc = np.zeros(nav.shape, dtype=bool)
         radius = ctx.user.options.radius
         window = nav.raster.window(user[0] - radius, user[1] - radius, user[0] + radius, user[1] + radius)
         if window is not None:
             sl, cx, cy = window  # cell centres: origin + (index + 0.5) * resolution
             disc[sl] = np.hypot(cx - user[0], cy - user[1]) <= radius
-        grid = grid.with_obstacles(disc)
-        grid.cache_size = _FIELDS_PER_GRID
-    return _cached(_GRIDS, key, nav, lambda: grid)
+        base = _BASES.get(key[:2])
+        if base is None:
+            # The house's first place of the user: its grid made at once. Later ones (a kept
+            # house) add the user's disc to the grid without the user, made once per house
+            # and margin (NavGrid.with_obstacles: the same grid, cheaper).
+            grid = made(nav.obstacles | disc)
+            _remember(_BASES, key[:2], nav, None)
+        else:
+            grid = _cached(_BASES, key[:2], nav, lambda: made(nav.obstacles)).with_obstacles(disc)
+    grid.cache_size = _FIELDS_PER_GRID
+    _remember(_GRIDS, key, nav, grid)
+    return grid
 
 
-def _cached(cache: OrderedDict[tuple, tuple[NavGrid, NavGrid]], key: tuple, nav: NavGrid, make) -> NavGrid:
-    """``cache[key]``'s grid, made with ``make()`` if missing (the least recently used of
-    :data:`_GRID_CACHE_SIZE` dropped)."""
+def _cached(cache: OrderedDict[tuple, tuple[NavGrid, NavGrid | None]], key: tuple, nav: NavGrid,
+            make) -> NavGrid:
+    """``cache[key]``'s grid, made with ``make()`` if missing or None."""
     hit = cache.get(key)
-    if hit is not None:
+    if hit is not None and hit[1] is not None:
         cache.move_to_end(key)
         return hit[1]
     grid = make()
+    _remember(cache, key, nav, grid)
+    return grid
+
+
+def _remember(cache: OrderedDict[tuple, tuple[NavGrid, NavGrid | None]], key: tuple, nav: NavGrid,
+              grid: NavGrid | None) -> None:
+    """Keep ``grid`` as ``cache[key]`` (the least recently used of :data:`_GRID_CACHE_SIZE`
+    dropped)."""
     cache[key] = (nav, grid)  # the nav is kept so that its id is not reused while cached
+    cache.move_to_end(key)
     if len(cache) > _GRID_CACHE_SIZE:
         cache.popitem(last=False)
-    return grid
 
 
 def stand_candidates(ctx: TaskContext, object_id: int, reach: float, start: Sequence[float],

@@ -38,7 +38,7 @@ from legent_gym.world.geometry import (
     points_in_polygon,
     wall_frame,
 )
-from legent_gym.world.humanoid import add_humanoid, appearance_for
+from legent_gym.world.humanoid import add_humanoid, appearance_for, element_id
 from legent_gym.world.meshing import (
     ColouredMesh,
     MeshAccumulator,
@@ -578,14 +578,8 @@ def build_spec(scene: Scene, options: BuildOptions | None = None) -> tuple[mujoc
 
 
 def _ids(model: mujoco.MjModel, kind: mujoco.mjtObj):
-    """A function from a name to the id of the model's element of ``kind`` (mj_name2id:
-    without the accessor object ``model.body(name)`` makes); KeyError for a missing name."""
-    def element_id(name: str) -> int:
-        found = mujoco.mj_name2id(model, kind, name)
-        if found < 0:
-            raise KeyError(f"no {kind.name[6:].lower()} named {name!r} in the model")
-        return found
-    return element_id
+    """A function from a name to the id of the model's element of ``kind`` (:func:`element_id`)."""
+    return lambda name: element_id(model, kind, name)
 
 
 def build_world(scene: Scene, options: BuildOptions | None = None) -> World:

@@ -341,13 +341,25 @@ def statue_link(height: float, look: Appearance) -> Link:
     return Link("body", parts)
 
 
+def element_id(model: mujoco.MjModel, kind: mujoco.mjtObj, name: str) -> int:
+    """The id of the model's element of ``kind`` named ``name`` (``mj_name2id``, without
+    the accessor object ``model.body(name)`` makes); KeyError if there is none."""
+    found = mujoco.mj_name2id(model, kind, name)
+    if found < 0:
+        raise KeyError(f"no {kind.name[6:].lower()} named {name!r} in the model")
+    return found
+
+
 class PoseWriter:
     """Writes joint angles (a vector in :data:`JOINTS` order, radians) into a compiled
     model's ``qpos`` for the person ``who``."""
 
     def __init__(self, model: mujoco.MjModel, who: str):
-        self.addresses = np.array([model.jnt_qposadr[model.joint(f"{who}/{j.name}").id] for j in JOINTS])
-        self.hand_sites = {s: model.site(f"{who}/{s}_hand").id for s in SIDES}
+        # mj_name2id: every episode makes its bodies' writers, and an accessor object per
+        # name (model.joint(name)) costs many times the lookup.
+        self.addresses = np.array([model.jnt_qposadr[element_id(model, mujoco.mjtObj.mjOBJ_JOINT, f"{who}/{j.name}")]
+                                   for j in JOINTS])
+        self.hand_sites = {s: element_id(model, mujoco.mjtObj.mjOBJ_SITE, f"{who}/{s}_hand") for s in SIDES}
 
     def write(self, data: mujoco.MjData, angles: np.ndarray) -> None:
         data.qpos[self.addresses] = angles

@@ -365,12 +365,19 @@ class NavGrid:
         dst = cells[graph.indices[entries]]
         sr, sc, tr, tc = src[:, 0], src[:, 1], dst[:, 0], dst[:, 1]
         ok = walk[sr, sc] & walk[tr, tc] & walk[tr, sc] & walk[sr, tc]  # diagonals: both corners
-        cut = entries[~ok]
-        keep = np.ones(len(graph.indices), dtype=bool)
-        keep[cut] = False
+        # The rows of these nodes make one run of entries (the nodes are in raster order):
+        # only that run is filtered; the entries before and after it are copied as they are.
+        a, b = int(indptr[nodes[0]]), int(indptr[nodes[-1] + 1])
+        keep = np.ones(b - a, dtype=bool)
+        keep[entries[~ok] - a] = False
         dropped = np.zeros(len(indptr), dtype=indptr.dtype)
-        np.cumsum(np.bincount(np.repeat(nodes, counts)[~ok], minlength=len(indptr) - 1), out=dropped[1:])
-        grid._graph = csr_matrix((graph.data[keep], graph.indices[keep], indptr - dropped), shape=graph.shape)
+        np.cumsum(np.bincount(np.repeat(nodes, counts)[~ok] - nodes[0], minlength=nodes[-1] - nodes[0] + 1),
+                  out=dropped[nodes[0] + 1:nodes[-1] + 2])
+        dropped[nodes[-1] + 2:] = dropped[nodes[-1] + 1]
+        data, indices = graph.data, graph.indices
+        grid._graph = csr_matrix((np.concatenate([data[:a], data[a:b][keep], data[b:]]),
+                                  np.concatenate([indices[:a], indices[a:b][keep], indices[b:]]), indptr - dropped),
+                                 shape=graph.shape)
         unlinked = index.copy()
         unlinked[rows, cols] = -1
         grid._index, grid._cells, grid._numbered = unlinked, cells, self._numbered

@@ -364,7 +364,7 @@ class RoomReach:
             if win is None:
                 continue
             here = labels[win[0]]
-            found = set(np.unique(here[here > 0]).tolist())
+            found = set(here[here > 0].tolist())
             common = found if common is None else common & found
         if common is None:  # no door in this room: keep the largest walkable area
             common = {int(np.argmax(np.bincount(labels[labels > 0])))}
@@ -546,13 +546,15 @@ class Furnisher:
         inside = rects_in_polygon(np.concatenate([flat, np.where(has_front[:, None], fr, flat)]), space.inner)
         ok = inside[:len(flat)] & (~has_front | inside[len(flat):])
         others = [self.pieces[k] for k in space.pieces if self.pieces[k].on_floor]
+        # What the footprints must stay clear of, tested in one call (pair by pair the same
+        # test): the other pieces grown by the margin, their front zones, the door squares.
+        clear_of = [space.keepouts]
         if others:
             feet = np.array([p.rect for p in others])
-            ok &= ~overlap_matrix(flat, expand(feet, space.margin)).any(axis=1)
             ofronts = np.array([p.front for p in others if p.front is not None]).reshape(-1, 4)
-            ok &= ~overlap_matrix(flat, ofronts).any(axis=1)
+            clear_of = [expand(feet, space.margin), ofronts, space.keepouts]
             ok &= ~(has_front & overlap_matrix(fr, feet).any(axis=1))
-        ok &= ~overlap_matrix(flat, space.keepouts).any(axis=1)
+        ok &= ~overlap_matrix(flat, np.concatenate(clear_of)).any(axis=1)
         if len(space.windows):
             heights = np.tile(tall, c)
             hit = overlap_matrix(flat, space.windows[:, :4]) & (heights[:, None] > space.windows[None, :, 4] + WINDOW_TOLERANCE)
@@ -617,8 +619,11 @@ class Furnisher:
         c = len(xs)
         rects = np.zeros((c, len(members), 4))
         fronts = np.zeros((c, len(members), 4))
+        turns = qs % 4
         for j, m in enumerate(members):
-            off = np.einsum("cij,j->ci", QUARTER_TURNS[qs % 4], np.array([m.dx, m.dy]))
+            # The member's offset turned by each of the four quarter turns (row by row the
+            # arithmetic of turning it by each candidate's), picked per candidate.
+            off = np.einsum("cij,j->ci", QUARTER_TURNS, np.array([m.dx, m.dy]))[turns]
             ox, oy = xs + off[:, 0], ys + off[:, 1]
             mq = (qs + m.dq) % 4
             fz = float(m.model.front_clearance)
