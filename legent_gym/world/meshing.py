@@ -103,7 +103,8 @@ class ColouredMesh:
         mesh uses, ascending, and each face's index into them; computed on the few distinct
         colours rather than on every face."""
         lookup, face_colour = self._texel_lookup(palette)
-        used = np.unique(lookup)
+        # np.unique(lookup) of a few colours, without its sorting machinery.
+        used = np.array(sorted(set(lookup.tolist())), dtype=lookup.dtype)
         return used, np.searchsorted(used, lookup)[face_colour]
 
 
@@ -310,14 +311,21 @@ def _merged_many(groups: list[list[Part]]) -> list[ColouredMesh]:
     normals = face_normals(v, shared)
     part_rgb = to_rgb8([tuple(p.rgba)[:3] for p in parts])  # row by row what _rgb8_of gives
     rgb = np.repeat(part_rgb, n_faces, axis=0)
+    packed = _packed(part_rgb)
+    part_codes = packed.tolist()
     out, k, f0 = [], 0, 0
     for group in groups:
         nf = sum(n_faces[k:k + len(group)])
         v0, v1 = int(starts[k]), int(starts[k]) + sum(n_verts[k:k + len(group)])
-        # One colour per part: the faces' distinct colours are the parts' distinct colours.
-        codes, part_colour = np.unique(_packed(part_rgb[k:k + len(group)]), return_inverse=True)
+        # One colour per part: the faces' distinct colours are the parts' distinct colours
+        # (np.unique(..., return_inverse=True) of a few codes, without its machinery).
+        mine = part_codes[k:k + len(group)]
+        distinct = sorted(set(mine))
+        position = {code: i for i, code in enumerate(distinct)}
+        codes = np.array(distinct, dtype=packed.dtype)
+        part_colour = np.array([position[code] for code in mine], dtype=np.intp)
         out.append(ColouredMesh(v[v0:v1], local[f0:f0 + nf], normals[f0:f0 + nf], rgb[f0:f0 + nf], codes,
-                                np.repeat(part_colour.reshape(-1), n_faces[k:k + len(group)])))
+                                np.repeat(part_colour, n_faces[k:k + len(group)])))
         k += len(group)
         f0 += nf
     return out

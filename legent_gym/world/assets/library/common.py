@@ -284,10 +284,18 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 def volume(parts: Iterable[Part]) -> float:
     """Enclosed volume (m^3) of closed, outward-facing parts, by the divergence theorem."""
-    total = 0.0
+    parts = list(parts)
+    if not parts:
+        return 0.0
+    # Every triangle's term at once (row by row the same arithmetic), then each part's sum
+    # on its own, added up part by part as before.
+    firsts = np.cumsum([0] + [len(p.vertices) for p in parts[:-1]]).astype(np.int32)
+    tri = np.concatenate([p.vertices for p in parts])[np.concatenate([p.faces + k for p, k in zip(parts, firsts)])]
+    rows = np.einsum("ij,ij->i", tri[:, 0], _cross(tri[:, 1], tri[:, 2]))
+    total, start = 0.0, 0
     for p in parts:
-        tri = p.vertices[p.faces]
-        total += float(np.einsum("ij,ij->i", tri[:, 0], _cross(tri[:, 1], tri[:, 2])).sum()) / 6.0
+        total += float(rows[start:start + len(p.faces)].sum()) / 6.0
+        start += len(p.faces)
     return total
 
 

@@ -9,6 +9,8 @@ material, so bigger variants are heavier.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from legent_gym.world.assets import registry
@@ -100,26 +102,45 @@ def make_pear(rng: np.random.Generator) -> AssetModel:
 
 def _bent_tube(radii: list[float], arc_radius: float, arc_angle: float, rgba: RGBA, material: str) -> Part:
     """A hexagonal tube bent along an arc in the xy plane, each section resting on z = 0."""
-    sides = 6
-    phi = np.arange(sides) * 2 * np.pi / sides  # a flat side at the bottom (240..300 degrees)
-    verts, faces = [], []
+    cos_p, sin_p = _TUBE_RING
     thetas = np.linspace(-arc_angle / 2, arc_angle / 2, len(radii))
+    centre, normal = [], []
     for theta, r in zip(thetas, radii):
-        centre = np.array([arc_radius * np.sin(theta), arc_radius * (np.cos(theta) - 1), r * np.sin(np.pi / 3)])
-        normal = np.array([np.sin(theta), np.cos(theta), 0.0])
-        for p in phi:
-            verts.append(centre + r * (np.cos(p) * normal + np.array([0.0, 0.0, np.sin(p)])))
-    for i in range(len(radii) - 1):
+        centre.append([arc_radius * np.sin(theta), arc_radius * (np.cos(theta) - 1), r * np.sin(np.pi / 3)])
+        normal.append([np.sin(theta), np.cos(theta), 0.0])
+    # Every section's ring at once: element by element the arithmetic of
+    # centre + r * (cos(p) * normal + (0, 0, sin(p))), one vertex at a time.
+    ring = np.zeros((len(_TUBE_RING[0]), 3))
+    ring[:, 2] = sin_p
+    rings = (np.array(centre)[:, None, :] + np.array(radii, dtype=np.float64)[:, None, None]
+             * (cos_p[None, :, None] * np.array(normal)[:, None, :] + ring[None, :, :]))
+    # The caps' centre vertices: the mean of the first and of the last ring.
+    verts = np.concatenate([rings.reshape(-1, 3), [np.mean(rings[0], axis=0), np.mean(rings[-1], axis=0)]])
+    return Part(verts, _tube_faces(len(radii)).copy(), rgba, "hull", material=material)
+
+
+#: cos and sin of a hexagonal tube's six directions (a flat side at the bottom, 240..300
+#: degrees), each by its own call, as the tube's vertices were once computed one by one.
+_TUBE_RING = tuple(np.array([f(p) for p in np.arange(6) * 2 * np.pi / 6]) for f in (np.cos, np.sin))
+
+
+@lru_cache(maxsize=16)
+def _tube_faces(sections: int) -> np.ndarray:
+    """Faces of a hexagonal tube of ``sections`` rings, capped at both ends (read-only)."""
+    sides = 6
+    faces = []
+    for i in range(sections - 1):
         for k in range(sides):
             a, b = i * sides + k, i * sides + (k + 1) % sides
             faces += [[a, b + sides, a + sides], [a, b, b + sides]]
-    for ring, flip in ((0, True), (len(radii) - 1, False)):
-        hub = len(verts)  # the cap's centre vertex
-        verts.append(np.mean(verts[ring * sides:(ring + 1) * sides], axis=0))
+    for ring, flip in ((0, True), (sections - 1, False)):
+        hub = sections * sides + (0 if flip else 1)  # the cap's centre vertex
         for k in range(sides):
             tri = [hub, ring * sides + k, ring * sides + (k + 1) % sides]
             faces.append(tri[::-1] if flip else tri)
-    return Part(np.array(verts), np.array(faces), rgba, "hull", material=material)
+    out = np.array(faces, dtype=np.int32)
+    out.flags.writeable = False
+    return out
 
 
 def make_banana(rng: np.random.Generator) -> AssetModel:
