@@ -200,6 +200,7 @@ def test_a_ray_worker_killed_mid_collection_is_retried(ray_address, reference, t
         deadline = time.monotonic() + 300
         while not (gate / "caught").is_file() and driver.is_alive() and time.monotonic() < deadline:
             time.sleep(0.05)
+        assert (gate / "caught").is_file(), f"attempt 5 never ran: {errors}"
         pid = int((gate / "caught").read_text())
         assert _committed(out) <= 5  # attempt 5 is running: it and those after it are not committed
         os.kill(pid, signal.SIGKILL)  # a worker process of the cluster this test started
