@@ -15,13 +15,15 @@ Layers, from the bottom (``docs/architecture.md`` has the map and the reasons):
 * :mod:`legent_gym.experts`: the task experts, which read privileged state through
   ``Oracle`` alone.
 * :mod:`legent_gym.wrappers`: expert labels, SB3 adapters, interleaved history.
+* :mod:`legent_gym.hyperparams`: RL Baselines3 Zoo's hyperparameters (``ppo.yml``).
 * :mod:`legent_gym.data`: ``legent-gym collect`` (Minari, LEGENT's format, video).
 * :mod:`legent_gym.play`: ``legent-gym play``, a person playing the user or the agent in
   the browser (WebSocket server, sessions, recording).
 
 Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command),
 :mod:`legent_gym.gl_backend` (picks EGL before MuJoCo is imported),
-:mod:`legent_gym.atomic` (atomic file writes), :mod:`legent_gym.workers` (worker processes:
+:mod:`legent_gym.atomic` (atomic file writes), :mod:`legent_gym.heap`
+(the C heap's freed pages handed back after a dropped house), :mod:`legent_gym.workers` (worker processes:
 forkserver, one core each, results in order), :mod:`legent_gym.scale` (the same as Ray
 tasks, on one machine or a cluster), :mod:`legent_gym.llm` (one client for any
 OpenAI-compatible chat endpoint, its JSON replies validated with pydantic),

@@ -16,7 +16,18 @@ from legent_gym.envs.episode import HOUSE_CACHE_SIZE
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-from soak import SoakReport, soak  # noqa: E402
+from soak import SoakReport  # noqa: E402
+from soak import soak as soak_here  # noqa: E402
+
+
+def soak(*args, **kwargs) -> SoakReport:
+    """``benchmarks/soak.py``'s run in a fresh process: the figures are the soaking env's
+    alone, not those of renderers and caches other tests left in this worker."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        return pool.submit(soak_here, *args, **kwargs).result()
 
 KINDS = ["single", "multi"]
 
