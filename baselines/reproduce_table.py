@@ -84,7 +84,7 @@ from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
 from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
 from legent_gym.scale import Backend, connect_ray  # noqa: E402
-from legent_gym.tasks.household import PAPER_WHERE_IS  # noqa: E402
+from legent_gym.tasks import PAPER_WHERE_IS  # noqa: E402
 from legent_gym.workers import map_ordered  # noqa: E402
 
 TRAIN_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom")

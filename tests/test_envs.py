@@ -11,14 +11,15 @@ from gymnasium.utils.env_checker import check_env
 
 import legent_gym
 from legent_gym.envs.action_spaces import actions_to_dict
+from legent_gym.tasks import TASKS
 
 ENV_IDS = legent_gym.ENV_IDS
 SMALL = {"width": 48, "height": 48}
 
 
 def test_ids_are_registered():
-    assert len(ENV_IDS) == 18
-    for task in ("ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn"):
+    assert len(TASKS) >= 6 and len(ENV_IDS) == 3 * len(TASKS)
+    for task in TASKS:
         for layout in ("OneRoom", "TwoRoom", "FourRoom"):
             spec = gym.spec(f"Legent/{task}-{layout}-v0")
             assert spec.max_episode_steps == 25
@@ -238,7 +239,7 @@ def test_dense_reward_is_progress_along_the_geodesic(env_id):
 
 def test_where_is_asks_legents_objects_on_legents_receptacles():
     from legent_gym.experts import Expert
-    from legent_gym.tasks.household import (
+    from legent_gym.tasks.where_is import (
         PAPER_WHERE_IS,
         PAPER_WHERE_IS_OBJECTS,
         PAPER_WHERE_IS_RECEPTACLES,

@@ -28,9 +28,7 @@ from legent_gym.tasks.feasibility import PLAN_BUDGET, merge_corners, stand_leg, 
 from legent_gym.workers import map_ordered
 from legent_gym.world.navigation import NavGrid
 
-TASKS = ("ComeHere", "GoTo", "PickUp", "BringMe", "WhereIs", "PutOn")
-LAYOUTS = ("OneRoom", "TwoRoom", "FourRoom")
-ENV_IDS = [f"Legent/{task}-{layout}-v0" for task in TASKS for layout in LAYOUTS]
+ENV_IDS = list(legent_gym.ENV_IDS)  # every registered task in every layout
 ACCEPTANCE_SEEDS = 200
 
 

@@ -125,8 +125,8 @@ def begin_episode(env: gym.Env, obs: dict, info: dict, *, attempt: int, seed: in
     observation. The goal comes from the env's episode engine (``env.unwrapped.episode``):
     ``task`` is the task's name and the goal's own description (None for an id it has not,
     WhereIs's ``answers`` a list, where ``info["task"]`` has -1 and one string), with the
-    goal in the paper's words (:func:`~legent_gym.tasks.household.paper_instruction`)."""
-    from legent_gym.tasks.household import paper_instruction
+    goal in the paper's words (:func:`~legent_gym.tasks.registry.paper_instruction`)."""
+    from legent_gym.tasks.registry import paper_instruction
 
     engine = getattr(env.unwrapped, "episode", None)  # HouseholdEnv's, SingleAgentEnv's
     if engine is None:

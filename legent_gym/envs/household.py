@@ -24,8 +24,8 @@ from legent_gym.envs.action_spaces import (
 )
 from legent_gym.envs.episode import HOUSE_CACHE_SIZE, Episode, HouseSource, Observing
 from legent_gym.envs.vector import settle_worker
+from legent_gym.tasks import make_task
 from legent_gym.tasks.base import Evaluation
-from legent_gym.tasks.household import make_task
 from legent_gym.world.builder import PERSON_SEGMENTATION_ID, BodyOptions, BuildOptions, World
 from legent_gym.world.render import FreeCamera, Renderer
 from legent_gym.world.scene import Scene, load_scene

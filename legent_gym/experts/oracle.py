@@ -20,8 +20,9 @@ import numpy as np
 
 from legent_gym.agent.actions import ActionLimits
 from legent_gym.tasks import feasibility
-from legent_gym.tasks.base import TaskContext, TaskInstance
+from legent_gym.tasks.base import Task, TaskContext, TaskInstance
 from legent_gym.tasks.feasibility import yaw_pitch_to
+from legent_gym.tasks.registry import task_class
 from legent_gym.world.navigation import NavGrid
 from legent_gym.world.rays import RayHit, cast_ray
 
@@ -92,6 +93,11 @@ class Oracle:
         """The template task of the current goal (a Custom task's goals are template goals)."""
         task, goal = self._episode.task, self._episode.goal
         return task.name if goal is None else task.goal_task(goal)
+
+    @property
+    def task(self) -> type[Task]:
+        """The registered class of :attr:`task_name`: its ``code`` is what the experts plan."""
+        return task_class(self.task_name)
 
     @property
     def goal(self) -> TaskInstance:
@@ -198,13 +204,14 @@ class Oracle:
         return self._ctx.is_visible(self._ctx.agent, object_id)
 
     def goal_view(self) -> GoalView:
-        """:class:`GoalView` of what the task is about now: the user (ComeHere; BringMe once
-        the object is held), the receptacle (PutOn once the object is held), else the
-        goal's ``target`` object."""
+        """:class:`GoalView` of what the task is about now: the user (a goal with no
+        ``target``, ComeHere; once the target is held, a task whose code goes to the user,
+        BringMe), the receptacle (PutOn once the object is held), else the goal's
+        ``target`` object."""
         ctx, goal = self._ctx, self.goal
         target = getattr(goal, "target", None)
         held = ctx.agent.state.held
-        if target is None or (held == target and self.task_name == "BringMe"):
+        if target is None or (held == target and "goto_user()" in self.task.code):
             return self._user_view()
         receptacle = getattr(goal, "receptacle", None)
         if held == target and receptacle is not None:

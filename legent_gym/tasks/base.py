@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 
@@ -195,12 +195,65 @@ class TaskInstance(ABC):
                 "answers": list(getattr(self, "answers", ()))}
 
 
+#: The intermediate code that fetches the target: goes to it, aims at it and grabs it. A
+#: task's :attr:`Task.code` that starts with it picks its target up, so the target must be
+#: interactable, and an expert taking over with the target in hand skips it.
+FETCH_CODE = "goto({a}) target({a}) interact()"
+#: The fields of :attr:`Task.code`: the goal's target and receptacle ids, the receptacle's name.
+CODE_FIELDS = ("a", "b", "b_name")
+
+
 class Task(ABC):
-    """A task family: ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn."""
+    """A task family: ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn, each in its own file.
+
+    A task class carries everything about the task: the instructions (:attr:`templates`),
+    goal sampling (:meth:`sample`, with :meth:`house_conditions`), success (the goal's
+    :meth:`TaskInstance.evaluate`), the expert's intermediate code (:attr:`code`), and the
+    kinds of a tasks file it judges with their lines for the LLM task generator
+    (:attr:`kinds`, :meth:`goal_for`, :meth:`spec_problem`). It is registered with
+    :func:`legent_gym.tasks.registry.register_task`; docs/adding-a-task.md walks through one.
+    """
 
     name: str = "task"
-    #: Instruction paraphrases; ``{a}`` and ``{b}`` stand for object names.
+    #: Instruction paraphrases; ``{a}`` and ``{b}`` stand for object names. The first is the
+    #: paper's wording (:func:`~legent_gym.tasks.registry.paper_instruction`).
     templates: tuple[str, ...] = ()
+    #: The paper's intermediate code that completes a goal (Table 2), which the experts
+    #: plan: ``{a}`` and ``{b}`` stand for the goal's target and receptacle ids, ``{b_name}``
+    #: for the receptacle's name. Code starting with :data:`FETCH_CODE` picks the target up.
+    code: str = ""
+    #: The object fields of the goal, in order (``"target"``, ``"receptacle"``): what a
+    #: tasks file's line of one of :attr:`kinds` must give.
+    roles: tuple[str, ...] = ()
+    #: The kinds of task in a tasks file (:mod:`legent_gym.tasks.custom`) this task judges,
+    #: each with its description in the LLM task generator's prompt.
+    kinds: ClassVar[dict[str, str]] = {}
+    #: The goal's class: made from an instruction and the ids of :attr:`roles`, in order,
+    #: by the default :meth:`goal_for`.
+    goal_type: ClassVar[type[TaskInstance] | None] = None
+
+    @classmethod
+    def fetches_target(cls) -> bool:
+        """The task's code picks the target up first (:data:`FETCH_CODE`)."""
+        return cls.code.startswith(FETCH_CODE)
+
+    @classmethod
+    def goal_for(cls, ctx: TaskContext, instruction: str, target: int | None = None,
+                 receptacle: int | None = None) -> TaskInstance:
+        """The goal of a tasks file's line of one of :attr:`kinds` in ``ctx``'s scene (the
+        ids of :attr:`roles` are given and in the scene): :attr:`goal_type` of the
+        instruction and those ids."""
+        if cls.goal_type is None:
+            raise NotImplementedError(f"{cls.name} has no goal_type to make a tasks file's goal of")
+        ids = {"target": target, "receptacle": receptacle}
+        return cls.goal_type(instruction, *(ids[role] for role in cls.roles))  # type: ignore[call-arg]
+
+    @classmethod
+    def spec_problem(cls, ctx: TaskContext, target: int | None, receptacle: int | None) -> str | None:
+        """Why a tasks file's line of one of :attr:`kinds` with these objects cannot be a
+        goal in ``ctx``'s scene (None: it can). The objects exist; that a fetched target
+        can be picked up is checked for every task."""
+        return None
 
     def house_conditions(self, house_seed: int) -> dict[str, Any]:
         """Generation conditions this task needs of the house of ``house_seed`` (e.g. a

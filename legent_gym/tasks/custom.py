@@ -3,20 +3,21 @@
 A tasks file (``legent-gym tasks generate``; JSON lines) has a header line and one line per
 task; the lines whose ``status`` is ``"kept"`` are tasks (:class:`TaskSpec`):
 
-* ``kind``: what success means, judged by the template task of that kind
-  (:data:`KIND_TEMPLATES`): ``come`` (ComeHere: within 2 m of the user), ``goto`` (GoTo:
-  ``target`` within reach and visible), ``take`` (PickUp: ``target`` held), ``bring``
-  (BringMe: ``target`` held within 2 m of the user), ``put`` (PutOn: ``target`` resting on
-  ``receptacle``), ``where`` and ``exist`` (WhereIs: the agent's speech names
-  ``receptacle``, what ``target`` stands on);
+* ``kind``: what success means, judged by the registered task whose ``kinds`` hold it
+  (:func:`~legent_gym.tasks.registry.task_of_kind`): ``come`` (ComeHere: within 2 m of the
+  user), ``goto`` (GoTo: ``target`` within reach and visible), ``take`` (PickUp:
+  ``target`` held), ``bring`` (BringMe: ``target`` held within 2 m of the user), ``put``
+  (PutOn: ``target`` resting on ``receptacle``), ``where`` and ``exist`` (WhereIs: the
+  agent's speech names ``receptacle``, what ``target`` stands on);
 * ``instruction``: what the user says; ``code``: the intermediate code that does it
-  (:mod:`legent_gym.experts.program`).
+  (:mod:`legent_gym.experts.program`);
+* ``target``, ``receptacle``: the object ids the kind's task needs (its ``roles``).
 
 :class:`Custom` plays a file's tasks in one scene: each goal is the template task's own
-goal (so the experts, which write the template's code for it, can complete it), with the
-file's instruction. ``order="random"`` (default) draws a task from the episode's generator
-(a seeded reset gives the same task); ``"sequential"`` plays them in the file's order,
-round and round.
+goal (its ``goal_for``, so the experts, which write the template's code for it, can
+complete it), with the file's instruction. ``order="random"`` (default) draws a task from
+the episode's generator (a seeded reset gives the same task); ``"sequential"`` plays them
+in the file's order, round and round.
 """
 
 from __future__ import annotations
@@ -24,33 +25,19 @@ from __future__ import annotations
 import json
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from legent_gym.tasks.base import Task, TaskContext, TaskInstance
-from legent_gym.tasks.household import (
-    BringMeInstance,
-    ComeHereInstance,
-    GoToInstance,
-    PickUpInstance,
-    PutOnInstance,
-    WhereIsInstance,
-)
+from legent_gym.tasks.registry import register_task, task_kinds, task_of_kind
 
-#: The template task that judges each kind of task.
-KIND_TEMPLATES: dict[str, str] = {"come": "ComeHere", "goto": "GoTo", "take": "PickUp", "bring": "BringMe",
-                                  "put": "PutOn", "where": "WhereIs", "exist": "WhereIs"}
-#: The object fields each kind needs.
-KIND_OBJECTS: dict[str, tuple[str, ...]] = {"come": (), "goto": ("target",), "take": ("target",),
-                                            "bring": ("target",), "put": ("target", "receptacle"),
-                                            "where": ("target", "receptacle"), "exist": ("target", "receptacle")}
 #: The first line of a tasks file names this format.
 TASKS_FORMAT = "legent-gym-tasks"
 TASKS_VERSION = 1
-
-Kind = Literal["come", "goto", "take", "bring", "put", "where", "exist"]
+#: The object fields each kind of the built-in tasks needs (their task's ``roles``).
+KIND_OBJECTS: dict[str, tuple[str, ...]] = {kind: task.roles for kind, task in task_kinds().items()}
 
 
 class TaskSpec(BaseModel):
@@ -58,25 +45,37 @@ class TaskSpec(BaseModel):
 
     model_config = ConfigDict(extra="ignore")
 
-    kind: Kind
+    kind: str
     instruction: str = Field(min_length=1, max_length=500)
     code: str = Field(min_length=1, max_length=2000)
     target: int | None = None
     receptacle: int | None = None
 
+    @field_validator("kind")
+    @classmethod
+    def _known_kind(cls, kind: str) -> str:
+        task_of_kind(kind)  # ValueError naming the known kinds
+        return kind
+
     @model_validator(mode="after")
     def _objects(self) -> TaskSpec:
-        for role in KIND_OBJECTS[self.kind]:
+        for role in self.task.roles:
             if getattr(self, role) is None:
                 raise ValueError(f"a {self.kind!r} task needs a {role} object id")
         return self
 
     @property
+    def task(self) -> type[Task]:
+        """The registered task that judges this kind."""
+        return task_of_kind(self.kind)
+
+    @property
     def template(self) -> str:
-        return KIND_TEMPLATES[self.kind]
+        """The name of :attr:`task`."""
+        return self.task.name
 
     def object_ids(self) -> list[int]:
-        return [getattr(self, role) for role in KIND_OBJECTS[self.kind]]
+        return [getattr(self, role) for role in self.task.roles]
 
 
 def goal_of(spec: TaskSpec, ctx: TaskContext) -> TaskInstance:
@@ -86,20 +85,7 @@ def goal_of(spec: TaskSpec, ctx: TaskContext) -> TaskInstance:
     missing = [i for i in spec.object_ids() if i not in ids]
     if missing:
         raise ValueError(f"task {spec.instruction!r}: no object with id {missing[0]} in scene {ctx.scene.name!r}")
-    a, b = spec.target, spec.receptacle
-    match spec.kind:
-        case "come":
-            return ComeHereInstance(spec.instruction)
-        case "goto":
-            return GoToInstance(spec.instruction, a)  # type: ignore[arg-type]
-        case "take":
-            return PickUpInstance(spec.instruction, a)  # type: ignore[arg-type]
-        case "bring":
-            return BringMeInstance(spec.instruction, a)  # type: ignore[arg-type]
-        case "put":
-            return PutOnInstance(spec.instruction, a, b)  # type: ignore[arg-type]
-        case _:  # where, exist
-            return WhereIsInstance(spec.instruction, a, b, tuple(ctx.names_of(b)))  # type: ignore[arg-type]
+    return spec.task.goal_for(ctx, spec.instruction, spec.target, spec.receptacle)
 
 
 def read_tasks(path: str | Path) -> list[TaskSpec]:
@@ -140,6 +126,7 @@ def read_tasks_file(path: str | Path) -> tuple[dict[str, Any], list[TaskSpec]]:
     return header, out
 
 
+@register_task(layouts=False)
 class Custom(Task):
     """The tasks of a tasks file (``tasks``: its path, or a list of :class:`TaskSpec` or
     dicts), in ``order`` ``"random"`` or ``"sequential"`` (see the module docstring)."""
@@ -184,4 +171,4 @@ class Custom(Task):
         return goal_of(self.current, ctx)
 
     def goal_task(self, goal: TaskInstance) -> str:
-        return KIND_TEMPLATES[self.current.kind] if self.current is not None else self.name
+        return self.current.template if self.current is not None else self.name
