@@ -19,19 +19,15 @@ Layers, from the bottom (``docs/architecture.md`` has the map and the reasons):
 * :mod:`legent_gym.data`: ``legent-gym collect`` (Minari, LEGENT's format, video).
 * :mod:`legent_gym.play`: ``legent-gym play``, a person playing the user or the agent in
   the browser (WebSocket server, sessions, recording).
+* :mod:`legent_gym.llm`: the LLM features: one chat client, the prompts, scenes from text,
+  task generation, asset annotation.
 
 Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command),
 :mod:`legent_gym.gl_backend` (picks EGL before MuJoCo is imported),
 :mod:`legent_gym.atomic` (atomic file writes), :mod:`legent_gym.heap`
 (the C heap's freed pages handed back after a dropped house), :mod:`legent_gym.workers` (worker processes:
 forkserver, one core each, results in order), :mod:`legent_gym.scale` (the same as Ray
-tasks, on one machine or a cluster), :mod:`legent_gym.llm` (one client for any
-OpenAI-compatible chat endpoint, its JSON replies validated with pydantic),
-:mod:`legent_gym.prompts` (the LLM prompts, versioned; scenes from plans and prompts),
-:mod:`legent_gym.task_generation` (tasks for a scene written by an LLM, kept only if the
-experts complete them; ``Legent/Custom-v0`` plays them), :mod:`legent_gym.annotation`
-(glTF assets annotated: geometry computed, semantics from a VLM, registered for the
-generator and the tasks).
+tasks, on one machine or a cluster).
 """
 
 from legent_gym import gl_backend  # noqa: F401  (must run before mujoco is imported)

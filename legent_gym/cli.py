@@ -128,7 +128,7 @@ def cmd_asset_preview(args) -> int:
 
 
 def cmd_asset_annotate(args) -> int:
-    from legent_gym.annotation import annotate_command
+    from legent_gym.llm.annotation import annotate_command
 
     if args.out:
         _check_output(args.out)
@@ -142,11 +142,11 @@ def cmd_generate(args) -> int:
     if not 0 <= args.seed <= MAX_SEED:
         raise UserError(f"--seed must be between 0 and {MAX_SEED}, got {args.seed}")
     if args.asset:
-        from legent_gym.annotation import register_annotation_files
+        from legent_gym.llm.annotation import register_annotation_files
 
         register_annotation_files(args.asset, UserError)
     if args.plan is not None or args.prompt is not None:
-        from legent_gym.prompts import generate_scene
+        from legent_gym.llm.scene_from_text import generate_scene
 
         for path in (args.out, args.map):
             if path:
@@ -187,8 +187,8 @@ def cmd_generate(args) -> int:
 
 
 def cmd_tasks_generate(args) -> int:
-    from legent_gym.annotation import register_annotation_files
-    from legent_gym.task_generation import generate_tasks
+    from legent_gym.llm.annotation import register_annotation_files
+    from legent_gym.llm.task_generation import generate_tasks
 
     _check_output(args.out)
     register_annotation_files(args.asset, UserError)
@@ -238,6 +238,14 @@ def cmd_play(args) -> int:
     return run(args)
 
 
+def add_llm_arguments(parser: argparse.ArgumentParser) -> None:
+    """The LLM flags every LLM command takes."""
+    parser.add_argument("--llm-base-url", help="OpenAI-compatible endpoint (default: $OPENAI_BASE_URL)")
+    parser.add_argument("--model", help="the chat model's name")
+    parser.add_argument("--timeout", type=float, default=120.0, help="seconds per LLM request (default 120)")
+    parser.add_argument("--retries", type=int, default=2, help="retries of a failed LLM request (default 2)")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="legent-gym", description=__doc__.split("\n\n")[0])
     parser.add_argument("--debug", action="store_true", help="show the traceback of an error")
@@ -276,8 +284,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("asset")
     p.add_argument("--out", help="annotation JSON to write (default: beside the file, NAME.asset.json)")
     p.add_argument("--cache-dir", help="annotations cached by file hash (default: ~/.cache/legent-gym/annotations)")
-    from legent_gym.prompts import add_llm_arguments
-
     add_llm_arguments(p)
     p.set_defaults(func=cmd_asset_annotate)
 

@@ -11,8 +11,8 @@ import warnings
 import numpy as np
 import pytest
 
-from legent_gym.annotation import SEMANTIC_FIELDS, AssetAnnotation, register_annotation
 from legent_gym.cli import main
+from legent_gym.llm.annotation import SEMANTIC_FIELDS, AssetAnnotation, register_annotation
 from legent_gym.world.assets import registry
 
 from .chat_server import ReplayServer
@@ -236,7 +236,7 @@ def test_a_generated_scene_carries_its_annotated_asset_into_a_fresh_process(tmp_
     stands where the generator put it, renders the same, and an expert puts the apple on it
     (tasks generate with no --asset, in a fresh python). The sample Box.gltf, and a 0.8 x
     0.5 x 0.4 m crate whose front the VLM finds in view 1 (turned a quarter)."""
-    from legent_gym.annotation import AssetAnnotation
+    from legent_gym.llm.annotation import AssetAnnotation
     from legent_gym.world.assets.gltf import scene_asset_model
     from legent_gym.world.render import Renderer
     from legent_gym.world.scene import load_scene

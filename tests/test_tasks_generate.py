@@ -12,7 +12,7 @@ import pytest
 from gymnasium.utils.env_checker import check_env
 
 from legent_gym.cli import main
-from legent_gym.prompts import TASK_PROMPT_VERSION
+from legent_gym.llm.prompts import TASK_PROMPT_VERSION
 from legent_gym.tasks import MAX_ACTIONS
 from legent_gym.wrappers.expert import ExpertInfo
 

@@ -11,7 +11,7 @@ import gymnasium as gym
 import pytest
 
 from legent_gym.cli import main
-from legent_gym.prompts import SCENE_PLAN_PROMPT_VERSION, scene_plan_messages
+from legent_gym.llm.prompts import SCENE_PLAN_PROMPT_VERSION, scene_plan_messages
 from legent_gym.world.generation import check_house
 from legent_gym.world.scene import load_scene
 

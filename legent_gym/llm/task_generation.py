@@ -1,7 +1,7 @@
 """Tasks for a given scene, written by an LLM and kept only if they can be done.
 
 ``legent-gym tasks generate scene.json --n 20 --llm-base-url URL --model M --out
-tasks.jsonl``: the LLM is shown the scene's object table (:data:`~legent_gym.prompts.TASK_PROMPT`,
+tasks.jsonl``: the LLM is shown the scene's object table (:data:`~legent_gym.llm.prompts.TASK_PROMPT`,
 LEGENT's task creator's table: id, name, x, y, z) and writes tasks as JSON, each a kind,
 an instruction, its objects and intermediate code (or, as a string, LEGENT's own form
 ``Task: ...; Plan: ...; Solution: ...``, whose kind and objects are read off the solution
@@ -200,7 +200,7 @@ def check_tasks(scene: Any, drafts: list[Any], *, header: dict[str, Any] | None 
         try:
             spec = TaskSpec.model_validate(draft)
         except ValidationError as err:
-            from legent_gym.llm import describe_error
+            from legent_gym.llm.client import describe_error
 
             slots.append({"status": "rejected", "reason": f"not a task: {describe_error(err)}", "reply": draft})
             continue
@@ -252,8 +252,8 @@ def generate_tasks(args: Any, user_error: type[Exception]) -> int:
     ``user_error`` with one line."""
     from legent_gym.atomic import atomic_write_text
     from legent_gym.envs.household import HouseholdEnv
-    from legent_gym.llm import ChatClient, LLMError
-    from legent_gym.prompts import TASK_PROMPT_VERSION, task_messages
+    from legent_gym.llm.client import ChatClient, LLMError
+    from legent_gym.llm.prompts import TASK_PROMPT_VERSION, task_messages
     from legent_gym.tasks.custom import TaskSpec
     from legent_gym.world.scene import load_scene
 

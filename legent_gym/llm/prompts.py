@@ -1,20 +1,16 @@
-"""The prompts legent_gym sends to LLMs, in one place and versioned, and what runs them.
+"""The prompts legent_gym sends to LLMs, in one place and versioned.
 
 :data:`SCENE_PLAN_PROMPT` (version :data:`SCENE_PLAN_PROMPT_VERSION`) asks a chat model to
-write a :class:`~legent_gym.world.generation.plan.ScenePlan` for a description of a home;
-:func:`plan_from_prompt` sends it through :class:`~legent_gym.llm.ChatClient` (JSON mode,
-the reply validated as a plan, an invalid one sent back once with the error);
-:func:`generate_scene` is ``legent-gym generate --plan`` / ``--prompt``: solve the plan,
-write the plan beside the scene, the scene and the map (each atomically, only after the
-house is built). :data:`TASK_PROMPT` (version :data:`TASK_PROMPT_VERSION`) asks for tasks
-in a house, given its object table (:mod:`legent_gym.task_generation` runs it).
+write a :class:`~legent_gym.world.generation.plan.ScenePlan` for a description of a home
+(:mod:`legent_gym.llm.scene_from_text` sends it). :data:`TASK_PROMPT` (version
+:data:`TASK_PROMPT_VERSION`) asks for tasks in a house, given its object table
+(:mod:`legent_gym.llm.task_generation` runs it). :data:`ANNOTATION_PROMPT` (version
+:data:`ANNOTATION_PROMPT_VERSION`) asks a VLM what an asset shown in four views is
+(:mod:`legent_gym.llm.annotation` sends it).
 """
 
 from __future__ import annotations
 
-import argparse
-import json
-from pathlib import Path
 from typing import Any
 
 SCENE_PLAN_PROMPT_VERSION = 1
@@ -38,7 +34,7 @@ Relations: "against_wall" and "middle" (no target); "near", "far", "facing", "in
 Rules: 1 to {max_rooms} rooms; doors link rooms that should open into each other; at most \
 12 objects per room; every target and "on" names an object of the same room."""
 
-#: Sent back when a reply is not a valid plan (legent_gym.llm adds the error itself).
+#: Sent back when a reply is not a valid plan (legent_gym.llm.client adds the error itself).
 SCENE_PLAN_USER = "Describe the home: {prompt}"
 
 
@@ -55,84 +51,6 @@ def scene_plan_messages(prompt: str, catalog: Any = None) -> list[dict[str, str]
                                       furniture=", ".join(furniture), surface=", ".join(surface) or "(none)",
                                       small=", ".join(small), max_rooms=8)
     return [{"role": "system", "content": system}, {"role": "user", "content": SCENE_PLAN_USER.format(prompt=prompt)}]
-
-
-def plan_from_prompt(client: Any, prompt: str) -> tuple[Any, str]:
-    """The plan a chat model writes for ``prompt`` and its raw reply (see the module docstring)."""
-    from legent_gym.world.generation.plan import ScenePlan
-
-    return client.complete_model(scene_plan_messages(prompt), ScenePlan, max_tokens=4096)
-
-
-def add_llm_arguments(parser: argparse.ArgumentParser) -> None:
-    """The LLM flags every LLM command takes."""
-    parser.add_argument("--llm-base-url", help="OpenAI-compatible endpoint (default: $OPENAI_BASE_URL)")
-    parser.add_argument("--model", help="the chat model's name")
-    parser.add_argument("--timeout", type=float, default=120.0, help="seconds per LLM request (default 120)")
-    parser.add_argument("--retries", type=int, default=2, help="retries of a failed LLM request (default 2)")
-
-
-def plan_path_for(out: str | Path) -> Path:
-    """Where the plan of a scene is saved: ``house.json`` -> ``house.plan.json``."""
-    out = Path(out)
-    return out.with_name(out.name.removesuffix(".json") + ".plan.json")
-
-
-def generate_scene(args: Any, user_error: type[Exception]) -> int:
-    """``legent-gym generate --plan FILE`` or ``--prompt TEXT`` (``args`` from the CLI);
-    problems a user can cause raise ``user_error`` with one line."""
-    from pydantic import ValidationError
-
-    from legent_gym.atomic import atomic_write_text
-    from legent_gym.llm import ChatClient, LLMError, describe_error
-    from legent_gym.world.generation.plan import load_plan, solve_plan
-    from legent_gym.world.scene import save_scene
-
-    if args.plan and args.prompt:
-        raise user_error("give --plan FILE or --prompt TEXT, not both")
-    if args.out is None:
-        raise user_error("give --out FILE.json")
-    if args.count != 1 or args.out_dir is not None:
-        raise user_error("--plan and --prompt make one house: no --count or --out-dir")
-    if args.plan:
-        try:
-            data = json.loads(Path(args.plan).read_text(encoding="utf-8"))
-        except OSError as err:
-            raise user_error(f"{args.plan}: {err.strerror or err}") from None
-        except (json.JSONDecodeError, UnicodeDecodeError) as err:
-            raise user_error(f"{args.plan}: not JSON: {err}") from None
-        try:
-            plan = load_plan(data)
-        except ValidationError as err:
-            raise user_error(f"{args.plan}: not a valid plan: {describe_error(err)}") from None
-    else:
-        if not args.prompt.strip():
-            raise user_error("--prompt is empty")
-        if not args.model:
-            raise user_error("--prompt needs --model (and --llm-base-url or $OPENAI_BASE_URL)")
-        try:
-            client = ChatClient(args.llm_base_url, model=args.model, timeout=args.timeout, max_retries=args.retries,
-                                backoff=1.0, max_backoff=10.0)
-            plan, _ = plan_from_prompt(client, args.prompt)
-        except (LLMError, ValueError) as err:
-            raise user_error(str(err)) from None
-    solved = solve_plan(plan, args.seed)
-    for line in solved.report.lines():
-        print(line)
-    if args.prompt:
-        plan_file = plan_path_for(args.out)
-        atomic_write_text(plan_file, json.dumps(plan.model_dump(mode="json"), indent=1) + "\n")
-        print(f"wrote {plan_file} (the plan; rebuild with --plan {plan_file} --seed {args.seed})")
-    save_scene(solved.scene, args.out)
-    scene = solved.scene
-    print(f"wrote {args.out} ({len(scene.rooms)} rooms, {len(scene.objects)} objects; solved in "
-          f"{solved.report.seconds * 1000:.0f} ms; {len(solved.report.unmet)} unmet)")
-    if args.map:
-        from legent_gym.world.topdown_map import save_topdown_map
-
-        save_topdown_map(scene, args.map)
-        print(f"wrote {args.map}")
-    return 0
 
 
 # -- tasks for a scene -------------------------------------------------------------------

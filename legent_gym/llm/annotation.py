@@ -254,7 +254,7 @@ def png_data_url(image: np.ndarray) -> str:
 
 def ask_semantics(client: Any, views: list[np.ndarray], geometry: Geometry) -> Semantics:
     """The VLM's :class:`Semantics` of the asset shown in ``views``."""
-    from legent_gym.prompts import ANNOTATION_PROMPT
+    from legent_gym.llm.prompts import ANNOTATION_PROMPT
 
     text = ANNOTATION_PROMPT.format(x=geometry.size[0], y=geometry.size[1], z=geometry.size[2])
     content: list[dict[str, Any]] = [{"type": "text", "text": text}]
@@ -367,7 +367,7 @@ def annotate_command(args: Any, user_error: type[Exception]) -> int:
     ``user_error`` with one line."""
     import os
 
-    from legent_gym.llm import ChatClient, LLMError
+    from legent_gym.llm.client import ChatClient, LLMError
 
     path = Path(args.asset)
     if not path.is_file():
@@ -415,7 +415,7 @@ def register_annotation_files(paths: list[str] | None, user_error: type[Exceptio
         except OSError as err:
             raise user_error(f"{path}: {err.strerror or err}") from None
         except ValidationError as err:
-            from legent_gym.llm import describe_error
+            from legent_gym.llm.client import describe_error
 
             raise user_error(f"{path}: not an asset annotation: {describe_error(err)}") from None
     return ids
