@@ -54,7 +54,7 @@ from typing import Any
 if __package__ in (None, ""):  # run as a script: make `baselines` importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from legent_gym.atomic import atomic_write_text  # noqa: E402
+from legent_gym.utils.atomic import atomic_write_text  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Where the figures' data files live.
@@ -62,6 +62,19 @@ FIGURE_DIR = ROOT / "docs" / "data" / "figures"
 #: The Markdown files whose figure blocks :func:`refresh_docs` rewrites.
 DOC_FILES = ("README.md", "docs/results.md", "docs/experts.md", "docs/performance.md", "docs/datasets.md",
              "docs/multiagent.md", "docs/scale.md", "docs/vlm.md")
+#: Figures kept as data files only, shown in no doc (the runs behind the docs' tables, other
+#: scales, ablations, speed-ups measured against older code): checked and remade like the
+#: others; ``python -m baselines.refresh --show NAME`` prints one's table.
+DATA_ONLY = frozenset({
+    "table-full-wide-run", "wide-against-narrow", "table-full-wide-paper", "table-full-wide-paper-run",
+    "where-is-paper-seeds", "table-full-p25-scan", "table-full-p25-scan-run", "recovery-against-clean",
+    "table-full-run", "table-large", "table-large-run", "table-medium", "table-medium-run", "full-scale-cost",
+    "table-full-p25-scan-dagger", "table-full-p25-scan-dagger-run", "dagger-more-seeds", "ablation-wide-encoder",
+    "ablation-epochs16", "ablation-shift", "ablation-recovery", "ablation-scan", "ablation-aux", "variants-medium",
+    "render-fast-vs-stock", "render-without-culling", "step-view-culling", "step-episode-engine",
+    "step-frame-savings", "step-own-cost", "generation-fast-paths", "collect-speed-all-ids",
+    "expert-success", "expert-speed",
+})
 FORMAT_VERSION = 1
 BLOCK = re.compile(r"<!-- figure: (?P<name>[A-Za-z0-9_.-]+) -->\n(?P<body>.*?)<!-- /figure -->", re.S)
 #: One number of a figure quoted in prose: ``<!-- value: FIGURE | ROW | COLUMN [| FORMAT] -->``

@@ -7,6 +7,7 @@
     python -m baselines.refresh --only random-policy   # these figures
     python -m baselines.refresh --tables               # only rewrite the tables from the data files
     python -m baselines.refresh --check                # exit 1 if a table differs from its data file
+    python -m baselines.refresh --show ablation-shift  # print a figure's table (those shown in no doc too)
     python -m baselines.refresh --adopt table-full --commit d54059b   # a kept run's results.json as its data
     python -m baselines.refresh --adopt ppo-curve --commit 03c3827    # a table typed in a doc, from that commit
 
@@ -44,6 +45,7 @@ from baselines.figures import (  # noqa: E402
     outdated,
     provenance,
     refresh_docs,
+    render,
     stale_blocks,
     write,
 )
@@ -70,6 +72,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                         "--scale full --outdated would measure, with the files changed since each was measured")
     parser.add_argument("--tables", action="store_true", help="measure nothing; rewrite the tables from the data")
     parser.add_argument("--check", action="store_true", help="measure nothing; exit 1 if a table is not its data")
+    parser.add_argument("--show", metavar="NAME", help="measure nothing; print the figure's table from its data "
+                        "file (also the figures kept as data only, shown in no doc)")
     parser.add_argument("--adopt", metavar="NAME", help="measure nothing; take the results.json that a table run "
                         "kept in docs/data/ as the figure's data, with --commit (the commit it ran at); for a "
                         "table typed in a doc and kept in no file, its text in the doc at --commit")
@@ -77,6 +81,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--commit-note", default="", help="with --adopt: how that commit is known")
     args = parser.parse_args(argv)
     try:
+        if args.show:
+            print(render(load(figure(args.show).name)), end="")
+            return 0
         if args.adopt:
             if not args.commit:
                 raise FigureError("--adopt needs --commit (the commit the run was made at)")

@@ -1,7 +1,7 @@
 """The third-party RL clients, driven as their users call them: stable-baselines3's
 ``check_env``, RL Baselines3 Zoo (its own command lines), SuperSuit + SB3 on the PettingZoo
 envs, TorchRL's ``GymEnv``/``GymWrapper`` + ``check_env_specs``. The recipes of
-docs/training.md and docs/multiagent.md are these (tests/test_docs_examples.py runs them as
+docs/train-ppo.md and docs/multiagent.md are these (tests/test_docs_examples.py runs them as
 written, RL Zoo's train and enjoy commands at a small step count)."""
 
 from __future__ import annotations
