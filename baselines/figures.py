@@ -54,7 +54,7 @@ from typing import Any
 if __package__ in (None, ""):  # run as a script: make `baselines` importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from legent_gym.atomic import atomic_write_text  # noqa: E402
+from legent_gym.utils.atomic import atomic_write_text  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Where the figures' data files live.

@@ -41,11 +41,16 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-from PIL import Image
+if __package__ in (None, ""):  # run as a file: make the repository root importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from legent_gym.agent.actions import ActionLimits, ActionParseError, format_actions, parse_actions
-from legent_gym.llm import ChatClient, EndpointError
+import numpy as np  # noqa: E402
+from PIL import Image  # noqa: E402
+
+from baselines.episodes import run_episodes  # noqa: E402
+from legent_gym.agent.actions import ActionLimits, ActionParseError, format_actions, parse_actions  # noqa: E402
+from legent_gym.llm import ChatClient, EndpointError  # noqa: E402
+from legent_gym.utils.atomic import atomic_write_text  # noqa: E402
 
 NOOP_ACTION = "rotate_right(0)"
 """What the agent does when no reply parses: a valid step that changes nothing."""
@@ -216,11 +221,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--parse-retries", type=int, default=2, help="re-asks after a reply that does not parse")
     parser.add_argument("--trace", type=Path, default=None, help="write every step (replies, errors) as JSON lines")
     args = parser.parse_args(argv)
-
-    if __package__ in (None, ""):  # run as a file: make the repository root importable
-        sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from baselines.evaluate import run_episodes
-    from legent_gym.atomic import atomic_write_text
 
     try:
         agent = LLMAgent(base_url=args.base_url, api_key=args.api_key, model=args.model, timeout=args.timeout,

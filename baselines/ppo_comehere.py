@@ -41,7 +41,7 @@ import numpy as np
 
 import legent_gym  # noqa: F401  (registers the environments)
 from legent_gym.agent.actions import ActionLimits
-from legent_gym.atomic import atomic_write_bytes, atomic_write_text
+from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text
 from legent_gym.wrappers import FlatActions, InstructionTokens
 from legent_gym.wrappers.sb3 import flat_action_text, tokenize
 

@@ -82,10 +82,10 @@ from baselines.vla.checkpoint import read_checkpoint  # noqa: E402
 from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  # noqa: E402
 from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
-from legent_gym.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
-from legent_gym.scale import Backend, connect_ray  # noqa: E402
 from legent_gym.tasks import PAPER_WHERE_IS  # noqa: E402
-from legent_gym.workers import map_ordered  # noqa: E402
+from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
+from legent_gym.utils.scale import Backend, connect_ray  # noqa: E402
+from legent_gym.utils.workers import map_ordered  # noqa: E402
 
 TRAIN_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom")
 EVAL_TASKS = ("ComeHere-OneRoom", "ComeHere-TwoRoom", "WhereIs-OneRoom", "WhereIs-TwoRoom")

@@ -62,7 +62,7 @@ def write_report(path: str, args, rows: dict, load_before: float) -> None:
     """Write a benchmark's figures as JSON (atomically): its arguments, its rows, and the
     machine's load average (1 minute) before and after, which ``baselines.figures`` shows
     beside the table."""
-    from legent_gym.atomic import atomic_write_text
+    from legent_gym.utils.atomic import atomic_write_text
 
     report = {"args": vars(args), "rows": rows,
               "machine": {"load_before": load_before, "load_after": os.getloadavg()[0]}}

@@ -16,7 +16,7 @@ step until the episode ends. Reported per env id and worker count:
 * ``success``, ``act/ep``: the expert's success rate and mean actions per episode.
 
 One worker runs pinned to one core; two workers are two worker processes of
-``legent_gym.workers`` (one core each) measured from a common start after their first reset.
+``legent_gym.utils.workers`` (one core each) measured from a common start after their first reset.
 ``--collect-ids`` also times the whole ``legent-gym collect`` pipeline (Minari + LEGENT
 export, one worker, one core).
 """
@@ -36,7 +36,7 @@ import gymnasium as gym
 from benchmarks_common import pin_to_one_core, write_report
 
 import legent_gym
-from legent_gym.workers import map_ordered, mp_context
+from legent_gym.utils.workers import map_ordered, mp_context
 from legent_gym.wrappers.expert import ExpertInfo
 
 

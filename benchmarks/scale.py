@@ -34,7 +34,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from legent_gym.data import CollectConfig, collect  # noqa: E402
-from legent_gym.scale import connect_ray  # noqa: E402
+from legent_gym.utils.scale import connect_ray  # noqa: E402
 
 
 def run(env_id: str, episodes: int, size: int, workers: int, backend: str) -> dict:

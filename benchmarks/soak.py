@@ -14,7 +14,7 @@ once and closed. At every sample point the process is in the same state (the soa
 open, no other env), and the script records resident memory (``VmRSS``, before and after
 handing glibc's free heap pages back with ``malloc_trim``, unless ``--no-trim``: the first
 is what the process holds, the second what it uses), open file descriptors, live
-OpenGL and MuJoCo rendering contexts (:func:`legent_gym.gl_backend.live_contexts`) and
+OpenGL and MuJoCo rendering contexts (:func:`legent_gym.utils.gl_backend.live_contexts`) and
 steps/s since the last sample. After every step it checks MuJoCo's state for NaN or
 infinity (``qpos``, ``qvel``) and adds up MuJoCo's warning counters (``data.warning``).
 
@@ -62,10 +62,10 @@ def random_action(rng: np.random.Generator) -> str:
 
 
 def trim_heap() -> bool:
-    """Hand the C heap's free pages back to the system (:func:`legent_gym.heap.trim`); False
+    """Hand the C heap's free pages back to the system (:func:`legent_gym.utils.heap.trim`); False
     where there is no glibc. Freed memory that glibc keeps for reuse counts in ``VmRSS``
     until then, so a resident size measured after this is the memory still in use."""
-    from legent_gym import heap
+    from legent_gym.utils import heap
 
     return heap.trim()
 
@@ -205,7 +205,7 @@ def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: in
     env has reset that many times (else after a tenth of the steps). ``trim``: hand the
     free heap back at each sample (``Sample.rss_mb`` is then the memory in use); without
     it, both figures are what the process holds, as it would hold it unsampled."""
-    from legent_gym.gl_backend import live_contexts
+    from legent_gym.utils.gl_backend import live_contexts
 
     rng = np.random.default_rng(seed)
     report = SoakReport(f"{kind} {env_id}")

@@ -14,9 +14,9 @@ from pathlib import Path
 import gymnasium as gym
 
 import legent_gym
-from legent_gym.atomic import atomic_write_text
 from legent_gym.envs.registration import ID_TABLE, SCENE_TASK_IDS
 from legent_gym.tasks import MAX_ACTIONS
+from legent_gym.utils.atomic import atomic_write_text
 
 OUT = Path(__file__).resolve().parent / "envs"
 

@@ -22,15 +22,13 @@ Layers, from the bottom (``docs/architecture.md`` has the map and the reasons):
 * :mod:`legent_gym.llm`: the LLM features: one chat client, the prompts, scenes from text,
   task generation, asset annotation.
 
-Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command),
-:mod:`legent_gym.gl_backend` (picks EGL before MuJoCo is imported),
-:mod:`legent_gym.atomic` (atomic file writes), :mod:`legent_gym.heap`
-(the C heap's freed pages handed back after a dropped house), :mod:`legent_gym.workers` (worker processes:
-forkserver, one core each, results in order), :mod:`legent_gym.scale` (the same as Ray
-tasks, on one machine or a cluster).
+* :mod:`legent_gym.utils`: GL backend choice, atomic writes, worker processes, Ray.
+
+Top-level modules: :mod:`legent_gym.cli` (the ``legent-gym`` command) and
+:mod:`legent_gym.errors` (``UserError``).
 """
 
-from legent_gym import gl_backend  # noqa: F401  (must run before mujoco is imported)
+from legent_gym.utils import gl_backend  # noqa: F401  (must run before mujoco is imported)
 
 __version__ = "0.1.0"
 

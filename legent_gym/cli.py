@@ -26,12 +26,8 @@ import sys
 import warnings
 from pathlib import Path
 
-from legent_gym import gl_backend  # noqa: F401
-
-
-class UserError(Exception):
-    """A problem with the user's input: printed without a traceback."""
-
+from legent_gym.errors import UserError
+from legent_gym.utils import gl_backend  # noqa: F401
 
 #: The largest image side ``--size`` may ask for (MuJoCo's offscreen buffer is that big).
 MAX_IMAGE_SIZE = 8192
@@ -57,7 +53,7 @@ def _check_output(path: str) -> None:
 def _write_png(path: str, image) -> None:
     import cv2
 
-    from legent_gym.atomic import atomic_write_bytes
+    from legent_gym.utils.atomic import atomic_write_bytes
 
     ok, data = cv2.imencode(".png", image[..., ::-1])
     if not ok:

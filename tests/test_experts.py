@@ -25,7 +25,7 @@ from legent_gym.agent.actions import (
 from legent_gym.envs.action_spaces import dict_to_actions
 from legent_gym.experts import Expert
 from legent_gym.tasks.feasibility import PLAN_BUDGET, merge_corners, stand_leg, user_leg, walk_leg
-from legent_gym.workers import map_ordered
+from legent_gym.utils.workers import map_ordered
 from legent_gym.world.navigation import NavGrid
 
 ENV_IDS = list(legent_gym.ENV_IDS)  # every registered task in every layout

@@ -1,4 +1,4 @@
-"""legent_gym/gl_backend.py: the OpenGL backend MuJoCo renders through, in a fresh Python
+"""legent_gym/utils/gl_backend.py: the OpenGL backend MuJoCo renders through, in a fresh Python
 per case (MuJoCo reads ``MUJOCO_GL`` once, at its first import): EGL on a machine with no
 display, the user's ``MUJOCO_GL`` whatever else holds, and MuJoCo's own default (GLFW) on a
 display, a real X server (Xvfb) here. Each case renders a frame and compares it with the

@@ -1,4 +1,4 @@
-"""The Ray backend (legent_gym/scale.py): collection and evaluation as Ray tasks on a local
+"""The Ray backend (legent_gym/utils/scale.py): collection and evaluation as Ray tasks on a local
 cluster (loopback only, 2 CPUs, no dashboard) give what the process backend gives, survive
 a killed Ray worker and a killed driver, and a missing Ray is one line naming the extra."""
 
@@ -21,8 +21,8 @@ from legent_gym.cli import main
 from legent_gym.data import CollectConfig, collect
 from legent_gym.data.legent_format import load_trajectories
 from legent_gym.data.minari_store import load_minari_dataset
-from legent_gym.scale import Backend
-from legent_gym.workers import map_ordered
+from legent_gym.utils.scale import Backend
+from legent_gym.utils.workers import map_ordered
 
 from .conftest import REPO
 from .test_data_collect import DATASET_ID, ENV_ID, _check_whole, _committed

@@ -169,7 +169,7 @@ def test_all_problems_reported_at_once():
 
 def test_save_is_atomic(tmp_path, monkeypatch):
     """A save interrupted mid-write leaves the old file intact and no temporary file."""
-    import legent_gym.atomic as atomic_module
+    import legent_gym.utils.atomic as atomic_module
 
     scene = validate_scene(MINIMAL)
     target = tmp_path / "scene.json"

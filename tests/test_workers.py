@@ -1,4 +1,4 @@
-"""legent_gym.workers.map_ordered: order, pinning, errors, progress, stopping, orphans."""
+"""legent_gym.utils.workers.map_ordered: order, pinning, errors, progress, stopping, orphans."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from legent_gym.workers import map_ordered, mp_context
+from legent_gym.utils.workers import map_ordered, mp_context
 
 REPO = Path(__file__).resolve().parents[1]
 needs_affinity = pytest.mark.skipif(not hasattr(os, "sched_setaffinity"), reason="no CPU affinity here")
@@ -125,7 +125,7 @@ def _start_sleepers(tmp_path: Path) -> tuple[subprocess.Popen, list[int]]:
     """A process (a session of its own) whose two workers are asleep in a call; their pids."""
     script = textwrap.dedent(f"""
         from tests.test_workers import _pid_file_then_sleep
-        from legent_gym.workers import map_ordered
+        from legent_gym.utils.workers import map_ordered
         list(map_ordered(_pid_file_then_sleep, [({str(tmp_path)!r}, 0), ({str(tmp_path)!r}, 1)], workers=2))
     """)
     proc = subprocess.Popen([sys.executable, "-c", script], cwd=REPO, start_new_session=True,

@@ -12,7 +12,7 @@ import torch
 from baselines.vla.codec import ActionCodec
 from baselines.vla.model import VLA, ModelConfig
 from baselines.vla.words import WordVocab
-from legent_gym.atomic import atomic_write_bytes
+from legent_gym.utils.atomic import atomic_write_bytes
 
 FORMAT = "legent-vla-1"
 

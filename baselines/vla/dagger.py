@@ -36,11 +36,12 @@ from pathlib import Path
 import gymnasium as gym
 
 import legent_gym  # noqa: F401  (registers the environments)
-from legent_gym.cli import UserError, parse_env_kwargs
+from legent_gym.cli import parse_env_kwargs
 from legent_gym.data.legent_format import LegentWriter, episode_pngs
 from legent_gym.data.rollout import Episode, make_env, record_episode
+from legent_gym.errors import UserError
 from legent_gym.experts.planners import FIND_STRATEGIES
-from legent_gym.workers import map_ordered
+from legent_gym.utils.workers import map_ordered
 
 #: Rollouts per task handed to a worker at a time.
 CHUNK = 25

@@ -27,10 +27,11 @@ from dataclasses import asdict
 import gymnasium as gym
 
 import legent_gym  # noqa: F401  (registers the environments)
-from baselines.evaluate import EpisodeResult, ExpertBaseline, RandomPolicy, run_episodes
-from legent_gym.cli import UserError, parse_env_kwargs
-from legent_gym.scale import Backend
-from legent_gym.workers import map_ordered
+from baselines.episodes import EpisodeResult, ExpertBaseline, RandomPolicy, run_episodes
+from legent_gym.cli import parse_env_kwargs
+from legent_gym.errors import UserError
+from legent_gym.utils.scale import Backend
+from legent_gym.utils.workers import map_ordered
 
 CHUNK = 10
 RANDOM, EXPERT = "random", "expert"
@@ -95,7 +96,7 @@ def evaluate_many(jobs: Sequence[tuple[str, str]], episodes: int, seed: int, env
 
     All jobs use the seeds ``seed .. seed + episodes - 1``, so every policy meets the same
     houses, goals and instructions. ``backend`` (``"process"``, ``"ray"`` or a
-    :class:`legent_gym.scale.Backend`) says where the chunks run; the results do not
+    :class:`legent_gym.utils.scale.Backend`) says where the chunks run; the results do not
     depend on it."""
     if isinstance(episodes, bool) or not isinstance(episodes, int) or episodes < 1:
         raise ValueError(f"episodes must be a positive integer, got {episodes!r}")

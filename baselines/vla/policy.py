@@ -55,3 +55,12 @@ class VLAPolicy:
         action = self.model.decode(out)[0]
         self._actions.append(action)
         return action
+
+
+def partner(checkpoint: str) -> VLAPolicy:
+    """The model at ``checkpoint`` as the agent's partner in ``legent-gym play``:
+    ``--partner baselines.vla.policy:partner:CHECKPOINT`` (run from the repository root with
+    the baselines extra; the env's view is made at the size the model was trained on)."""
+    if not os.path.isfile(checkpoint):
+        raise ValueError(f"no checkpoint file {checkpoint!r}")
+    return VLAPolicy(checkpoint)

@@ -44,7 +44,7 @@ from baselines.vla.dataset import (
 )
 from baselines.vla.model import VLA, ModelConfig
 from baselines.vla.words import WordVocab
-from legent_gym.atomic import atomic_write_text
+from legent_gym.utils.atomic import atomic_write_text
 
 LAST, FINAL, LOG = "last.pt", "model.pt", "log.jsonl"
 

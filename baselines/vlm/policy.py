@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from baselines.evaluate import EpisodeResult
+from baselines.episodes import EpisodeResult
 from baselines.llm_agent import NOOP_ACTION, extract_action
 from baselines.vlm.data import Encoder
 from baselines.vlm.model import check_source, load_model, load_processor, pick_dtype, read_meta

@@ -50,7 +50,7 @@ from baselines.vlm.model import (  # noqa: E402
     load_processor,
     pick_dtype,
 )
-from legent_gym.atomic import atomic_write_text  # noqa: E402
+from legent_gym.utils.atomic import atomic_write_text  # noqa: E402
 
 LAST, FINAL, STATE = "last", "final", "state.pt"
 #: Where Hugging Face VLMs keep their vision encoder (LLaVA, Qwen2-VL, Idefics3/SmolVLM, ...).

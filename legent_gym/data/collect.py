@@ -17,7 +17,7 @@ then ``progress.json``. Whatever a crash interrupts is past the count in ``progr
 and is dropped and redone by the next run, which gives the same episode again (same seed).
 
 The attempts are computed by worker processes on this machine or by Ray tasks on a
-cluster (``backend``; see :mod:`legent_gym.scale` and ``docs/scale.md``); a task returns
+cluster (``backend``; see :mod:`legent_gym.utils.scale` and ``docs/scale.md``); a task returns
 its attempt whole to this process, which commits as above. So both backends write the
 same output, and a run killed on one resumes on either.
 """
@@ -35,12 +35,12 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
-from legent_gym.atomic import atomic_write_bytes, atomic_write_text
 from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
 from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
 from legent_gym.experts.planners import FIND_STRATEGIES
-from legent_gym.scale import Backend, BackendUnavailable
-from legent_gym.workers import map_ordered
+from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text
+from legent_gym.utils.scale import Backend, BackendUnavailable
+from legent_gym.utils.workers import map_ordered
 
 if TYPE_CHECKING:
     from legent_gym.world.scene import Scene
@@ -80,7 +80,7 @@ class CollectConfig:
     #: or ``"scan"`` (look around in place first; see ``legent_gym.experts.planners``).
     find_strategy: str = "direct"
     #: Where the attempts are computed: ``"process"`` (worker processes here) or ``"ray"``
-    #: (Ray tasks; ``ray_address`` as in :mod:`legent_gym.scale`). This process commits
+    #: (Ray tasks; ``ray_address`` as in :mod:`legent_gym.utils.scale`). This process commits
     #: them in order either way, so the output does not depend on it.
     backend: str = "process"
     ray_address: str | None = None

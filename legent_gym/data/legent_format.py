@@ -32,8 +32,8 @@ from typing import Any
 
 import numpy as np
 
-from legent_gym.atomic import atomic_write_bytes
 from legent_gym.data.rollout import Episode
+from legent_gym.utils.atomic import atomic_write_bytes
 
 TRAJECTORY_FILE = "trajectory.json"
 TASK_SETTING_FILE = "task_setting.json"

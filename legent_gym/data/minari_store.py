@@ -26,8 +26,8 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from legent_gym.atomic import atomic_write_text
 from legent_gym.data.rollout import Episode
+from legent_gym.utils.atomic import atomic_write_text
 
 DATA_FORMAT = "arrow"
 METADATA = "metadata.json"
@@ -167,7 +167,7 @@ class MinariWriter:
     def append(self, episode: Episode, index: int, extra_metadata: dict[str, Any] | None = None,
                *, durable: bool = True) -> None:
         """Write ``episode`` as episode ``index`` (the next one) and count it.
-        ``durable=False``: no fsync of the count (see :func:`legent_gym.atomic.atomic_write_bytes`)."""
+        ``durable=False``: no fsync of the count (see :func:`legent_gym.utils.atomic.atomic_write_bytes`)."""
         from minari.data_collector import EpisodeBuffer
 
         metadata = self.metadata()

@@ -55,18 +55,21 @@ from collections import deque
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import mujoco
 import numpy as np
 
-from legent_gym.envs.episode import Episode, House, HouseDraw
+from legent_gym.envs.houses import House, HouseDraw
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import AssetModel
 from legent_gym.world.builder import World
 from legent_gym.world.navigation import NavGrid
 from legent_gym.world.scene import Scene, Spawn
 from legent_gym.world.state import WorldState
+
+if TYPE_CHECKING:  # episode.py starts the factory: its class is named here for the types alone
+    from legent_gym.envs.episode import Episode
 
 #: What a helper's world state is shipped as (all MuJoCo needs to go on from it).
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION

@@ -13,7 +13,6 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from legent_gym import gl_backend  # noqa: F401  (before mujoco)
 from legent_gym.agent.actions import ActionLimits, ActionParseError, format_action
 from legent_gym.agent.body import DEFAULT_REACH, Outcome
 from legent_gym.envs.action_spaces import (
@@ -22,10 +21,12 @@ from legent_gym.envs.action_spaces import (
     speech_space,
     text_action_space,
 )
-from legent_gym.envs.episode import HOUSE_CACHE_SIZE, Episode, HouseSource, Observing
+from legent_gym.envs.episode import HOUSE_CACHE_SIZE, Episode, Observing
+from legent_gym.envs.houses import HouseSource
 from legent_gym.envs.vector import settle_worker
 from legent_gym.tasks import make_task
 from legent_gym.tasks.base import Evaluation
+from legent_gym.utils import gl_backend  # noqa: F401  (before mujoco)
 from legent_gym.world.builder import PERSON_SEGMENTATION_ID, BodyOptions, BuildOptions, World
 from legent_gym.world.render import FreeCamera, Renderer
 from legent_gym.world.scene import Scene, load_scene

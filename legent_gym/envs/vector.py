@@ -8,7 +8,7 @@ the cores with N times that many threads. :func:`settle_worker` is called when a
 made (``HouseholdEnv(pin_worker=True)``, the default): in such a worker process it pins the
 process to one core (the worker's number modulo the cores the process may use) and makes
 llvmpipe render in the calling thread. It does nothing in the main process, in a process
-already pinned to one core (``legent_gym.workers`` pins its own), or where the operating
+already pinned to one core (``legent_gym.utils.workers`` pins its own), or where the operating
 system has no CPU affinity.
 """
 

@@ -291,7 +291,7 @@ def annotate_asset(path: str | Path, client: Any = None, cache_dir: str | Path |
     annotation = AssetAnnotation(source=str(path), sha256=sha, geometry=geometry, semantics=semantics, yaw=yaw,
                                  missing=[] if semantics is not None else list(SEMANTIC_FIELDS))
     if cached is not None:
-        from legent_gym.atomic import atomic_write_text
+        from legent_gym.utils.atomic import atomic_write_text
 
         cached.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(cached, annotation.model_dump_json(indent=1) + "\n")
@@ -350,7 +350,7 @@ def imported_asset(annotation: AssetAnnotation, path: Path, asset_id: str | None
 
 
 def write_annotation(annotation: AssetAnnotation, out: str | Path) -> None:
-    from legent_gym.atomic import atomic_write_text
+    from legent_gym.utils.atomic import atomic_write_text
 
     atomic_write_text(Path(out), json.dumps(annotation.model_dump(mode="json"), indent=1) + "\n")
 

@@ -34,8 +34,8 @@ def generate_scene(args: Any, user_error: type[Exception]) -> int:
     problems a user can cause raise ``user_error`` with one line."""
     from pydantic import ValidationError
 
-    from legent_gym.atomic import atomic_write_text
     from legent_gym.llm.client import ChatClient, LLMError, describe_error
+    from legent_gym.utils.atomic import atomic_write_text
     from legent_gym.world.generation.plan import load_plan, solve_plan
     from legent_gym.world.scene import save_scene
 

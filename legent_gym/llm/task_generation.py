@@ -250,11 +250,11 @@ def check_tasks(scene: Any, drafts: list[Any], *, header: dict[str, Any] | None 
 def generate_tasks(args: Any, user_error: type[Exception]) -> int:
     """``legent-gym tasks generate`` (``args`` from the CLI); problems a user can cause raise
     ``user_error`` with one line."""
-    from legent_gym.atomic import atomic_write_text
     from legent_gym.envs.household import HouseholdEnv
     from legent_gym.llm.client import ChatClient, LLMError
     from legent_gym.llm.prompts import TASK_PROMPT_VERSION, task_messages
     from legent_gym.tasks.custom import TaskSpec
+    from legent_gym.utils.atomic import atomic_write_text
     from legent_gym.world.scene import load_scene
 
     if not 1 <= args.n <= MAX_TASKS:

@@ -11,6 +11,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from legent_gym.errors import UserError
+
 
 def parse_size(text: str) -> tuple[int, int]:
     """``"640x480"`` -> ``(640, 480)``."""
@@ -28,8 +30,8 @@ def partner_spec(text: str) -> str:
     from legent_gym.play.session import PARTNERS, is_partner
 
     if not is_partner(text):
-        raise argparse.ArgumentTypeError(f"--partner must be one of {', '.join(PARTNERS)}, vla:CHECKPOINT or "
-                                         f"module:function, got {text!r}")
+        raise argparse.ArgumentTypeError(f"--partner must be one of {', '.join(PARTNERS)} or "
+                                         f"module:function[:ARGUMENT], got {text!r}")
     return text
 
 
@@ -39,8 +41,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
                    help="whom the person plays (default: the user; the partner drives the agent)")
     p.add_argument("--partner", type=partner_spec, default="expert",
                    help="the policy that drives the agent when the person is the user: expert, random, llm, "
-                        "vla:CHECKPOINT (a model trained by baselines/vla) or module:function (returns a policy "
-                        "with reset(instruction) and act(observation))")
+                        "or module:function[:ARGUMENT] (returns a policy with reset(instruction) and act(observation); "
+                        "e.g. baselines.vla.policy:partner:CHECKPOINT, a model trained by baselines/vla)")
     p.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, loopback only)")
     p.add_argument("--allow-remote", action="store_true",
                    help="needed for a --host that is not a loopback address (anyone who can reach it and has the "
@@ -61,7 +63,6 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def make_server(args: Any) -> Any:
     """The :class:`~legent_gym.play.server.PlayServer` the arguments describe."""
-    from legent_gym.cli import UserError
     from legent_gym.play.server import PlayServer, is_loopback
     from legent_gym.play.session import PlaySession
 
@@ -87,8 +88,6 @@ def run(args: Any) -> int:
     import gymnasium as gym
 
     import legent_gym  # noqa: F401  (registers the ids)
-    from legent_gym.cli import UserError
-
     if args.env_id not in gym.registry:
         raise UserError(f"unknown env id {args.env_id!r} (legent-gym ids look like Legent/ComeHere-OneRoom-v0)")
     server = make_server(args)

@@ -38,10 +38,11 @@ from legent_gym.world.topdown_map import draw_topdown_map
 
 ROLES = ("user", "agent")
 PARTNERS = ("expert", "random", "llm")
-#: A partner given as a trained policy: ``vla:CHECKPOINT`` (the repository's compact VLA,
-#: ``baselines/vla``) or ``module:function`` (a function of no arguments that returns a
-#: policy with ``reset(instruction)`` and ``act(observation) -> action code``).
-VLA_PREFIX = "vla:"
+#: A partner given as a trained policy: ``module:function`` (a function of no arguments that
+#: returns a policy with ``reset(instruction)`` and ``act(observation) -> action code``) or
+#: ``module:function:ARGUMENT`` (the function is given the text ARGUMENT, e.g. a checkpoint:
+#: ``baselines.vla.policy:partner:model.pt``, the repository's compact VLA).
+PLUGIN = re.compile(r"(?P<module>[\w.]+):(?P<function>\w+)(?::(?P<argument>.+))?")
 #: The longest text (speech or action code) a person may send.
 MAX_TEXT = 500
 #: Pixels of the map's longer side.
@@ -170,29 +171,26 @@ class PolicyPartner:
 
 
 def is_partner(name: str) -> bool:
-    """A known partner name, ``vla:CHECKPOINT`` or ``module:function``."""
-    return name in PARTNERS or name.startswith(VLA_PREFIX) or bool(re.fullmatch(r"[\w.]+:\w+", name))
+    """A known partner name, ``module:function`` or ``module:function:ARGUMENT``."""
+    return name in PARTNERS or PLUGIN.fullmatch(name) is not None
 
 
 def load_policy_partner(spec: str) -> PolicyPartner:
-    """The partner of a ``vla:CHECKPOINT`` or ``module:function`` spec; ValueError naming
-    what is missing."""
-    if spec.startswith(VLA_PREFIX):
-        checkpoint = Path(spec[len(VLA_PREFIX):])
-        if not checkpoint.is_file():
-            raise ValueError(f"--partner {spec}: no checkpoint file {str(checkpoint)!r}")
-        try:
-            policy_module = importlib.import_module("baselines.vla.policy")
-        except ImportError as err:
-            raise ValueError(f"--partner {spec} needs the repository's baselines package and the baselines "
-                             f"extra (run from the repository root; {err})") from None
-        return PolicyPartner(policy_module.VLAPolicy(checkpoint), spec)
-    module_name, _, function = spec.partition(":")
+    """The partner of a ``module:function[:ARGUMENT]`` spec (see :data:`PLUGIN`); ValueError
+    naming what is missing or what the function refused."""
+    match = PLUGIN.fullmatch(spec)
+    if match is None:
+        raise ValueError(f"--partner {spec}: not module:function or module:function:ARGUMENT")
+    module_name, function, argument = match.group("module", "function", "argument")
     try:
         factory = getattr(importlib.import_module(module_name), function)
     except (ImportError, AttributeError) as err:
         raise ValueError(f"--partner {spec}: cannot import {function!r} from {module_name!r} ({err})") from None
-    return PolicyPartner(factory(), spec)
+    try:
+        policy = factory() if argument is None else factory(argument)
+    except ValueError as err:
+        raise ValueError(f"--partner {spec}: {err}") from None
+    return PolicyPartner(policy, spec)
 
 
 def make_partner(name: str, env: Any, *, seed: int = 0, llm_url: str = "", llm_model: str = "",
@@ -239,7 +237,7 @@ class PlaySession:
         if role not in ROLES:
             raise ValueError(f"role must be one of {ROLES}, got {role!r}")
         if not is_partner(partner):
-            raise ValueError(f"partner must be one of {PARTNERS}, vla:CHECKPOINT or module:function, got {partner!r}")
+            raise ValueError(f"partner must be one of {PARTNERS} or module:function[:ARGUMENT], got {partner!r}")
         if record is not None and role != "agent":
             raise ValueError("recording needs role='agent' (the person's actions are the agent's)")
         self.env_id, self.role, self.partner_name = env_id, role, partner

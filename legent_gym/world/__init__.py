@@ -4,7 +4,7 @@ Nothing here imports Gymnasium: the world can be used on its own (build a scene,
 it, plan paths on it).
 """
 
-from legent_gym import gl_backend  # noqa: F401
+from legent_gym.utils import gl_backend  # noqa: F401
 from legent_gym.world.scene import (
     Scene,
     SceneError,

@@ -34,7 +34,7 @@ from typing import Literal
 import mujoco
 import numpy as np
 
-from legent_gym import gl_backend  # before mujoco
+from legent_gym.utils import gl_backend  # before mujoco
 from legent_gym.world.builder import (
     GROUP_AGENT,
     GROUP_CEILING,

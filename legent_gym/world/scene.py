@@ -33,7 +33,7 @@ from typing import Annotated, Any, Final, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator
 
-from legent_gym.atomic import atomic_write_text
+from legent_gym.utils.atomic import atomic_write_text
 from legent_gym.world.geometry import polygon_signed_area
 
 SCENE_FORMAT: Final = "legent_gym.scene"

@@ -534,12 +534,12 @@ def test_per_dataset_trajectory_limits_are_checked():
 
 
 def test_a_trained_vla_drives_the_agent_in_legent_gym_play(checkpoint):
-    """`legent-gym play ENV --partner vla:CHECKPOINT`: the session's partner is the model,
+    """`legent-gym play ENV --partner baselines.vla.policy:partner:CHECKPOINT`: the session's partner is the model,
     made with the view size it was trained on, reset with the person's instruction."""
     pytest.importorskip("pettingzoo")
     from legent_gym.play.session import PlaySession
 
-    session = PlaySession("Legent/ComeHere-OneRoom-v0", partner=f"vla:{checkpoint}", size=(64, 48))
+    session = PlaySession("Legent/ComeHere-OneRoom-v0", partner=f"baselines.vla.policy:partner:{checkpoint}", size=(64, 48))
     try:
         assert session.obs["agent"]["rgb"].shape == (SIZE, SIZE, 3)
         session.say("Come here.")  # the person's first words are the agent's instruction
@@ -551,4 +551,4 @@ def test_a_trained_vla_drives_the_agent_in_legent_gym_play(checkpoint):
     finally:
         session.close()
     with pytest.raises(ValueError, match="no checkpoint file"):
-        PlaySession("Legent/ComeHere-OneRoom-v0", partner="vla:/no/such/model.pt")
+        PlaySession("Legent/ComeHere-OneRoom-v0", partner="baselines.vla.policy:partner:/no/such/model.pt")

@@ -244,10 +244,8 @@ def scene_asset_model(scene: Any, asset_id: str, variant: int = 0) -> AssetModel
     """The model of an asset id as a scene uses it: its ``assets`` entry (the import) if it
     declares one, else the registry's."""
     for entry in scene.assets:
-        if entry.id == asset_id:
-            from legent_gym.world.scene import scene_base_dir
-
-            return load_imported_asset(entry, scene_base_dir(scene))
+        if entry.id == asset_id:  # paths relative to the scene file's folder (a built scene: the cwd)
+            return load_imported_asset(entry, scene.base_dir or Path.cwd())
     from legent_gym.world.assets import registry
 
     return registry.make(asset_id, variant)

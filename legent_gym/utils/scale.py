@@ -1,7 +1,7 @@
 """Where the project's parallel loops run: worker processes here, or Ray tasks on a cluster.
 
-:func:`legent_gym.workers.map_ordered` takes a ``backend``: ``"process"`` (the default:
-forkserver worker processes on this machine, see :mod:`legent_gym.workers`) or
+:func:`legent_gym.utils.workers.map_ordered` takes a ``backend``: ``"process"`` (the default:
+forkserver worker processes on this machine, see :mod:`legent_gym.utils.workers`) or
 :class:`Backend` ``("ray", address)``. Both keep the same contract: ``fn(*call)`` for each
 call, results yielded in the order of the calls, at most ``ahead * workers`` calls handed
 out beyond the last result yielded, the first error raised at once. So a caller that
@@ -146,7 +146,7 @@ def ray_results(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int,
                 initializer: Callable[..., Any] | None, initargs: tuple, ahead: int,
                 address: str | None) -> Generator[Any, None, None]:
     """``fn(*call)`` for each call, computed by Ray tasks, yielded in order (the contract of
-    :func:`legent_gym.workers.map_ordered`)."""
+    :func:`legent_gym.utils.workers.map_ordered`)."""
     ray = connect_ray(address, workers)
     task = _task(ray)
     setup = ray.put((uuid.uuid4().hex, fn, initializer, initargs))

@@ -17,7 +17,7 @@ acceptance test. Each worker process
 Results come back in the order of the calls, whatever order the workers finish in, so a
 caller that keeps them in that order gets the same whatever the number of workers::
 
-    from legent_gym.workers import map_ordered
+    from legent_gym.utils.workers import map_ordered
 
     for result in map_ordered(fn, [(a, b), (c, d)], workers=2, progress="chunks"):
         ...  # fn(a, b), then fn(c, d)
@@ -37,7 +37,7 @@ from collections.abc import Callable, Generator, Iterable, Iterator, Sized
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
-from legent_gym.scale import Backend, in_call_order, ray_results
+from legent_gym.utils.scale import Backend, in_call_order, ray_results
 
 __all__ = ["map_ordered", "mp_context"]
 
@@ -73,10 +73,10 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
     its cause. On any exception, on Ctrl-C, or when the
     consumer stops early (the generator is closed), the pending calls are cancelled and the
     workers stopped before the exception goes on (the Ray backend leaves its calls in flight
-    to finish unread: see :func:`legent_gym.scale.ray_results`).
+    to finish unread: see :func:`legent_gym.utils.scale.ray_results`).
 
-    ``backend`` (:mod:`legent_gym.scale`): ``"process"`` (the default, as above) or
-    ``"ray"`` / a :class:`~legent_gym.scale.Backend` with a Ray address: the calls run as
+    ``backend`` (:mod:`legent_gym.utils.scale`): ``"process"`` (the default, as above) or
+    ``"ray"`` / a :class:`~legent_gym.utils.scale.Backend` with a Ray address: the calls run as
     Ray tasks under the same contract (order, ``ahead``, errors); a Ray started here has
     ``workers`` CPUs, so ``workers`` run at a time; on a cluster, as many of the
     ``ahead * workers`` in flight as it has free CPUs. ``workers == 1`` runs them as Ray
