@@ -34,6 +34,9 @@ observations, one core. Rows (``--only`` names):
   ahead in the time it waits for the other (``prepare_ahead``, on in pinned workers; the
   pinned N=1 process has one core and does not). ``vec1-eph8``, ``vec2-eph8``: the same
   with ``episodes_per_house=8``; ``vec2-inline``: N=2 with ``prepare_ahead=False``;
+* ``svec1``, ``svec2``, ``svec8`` (any ``svecN``, and ``-eph8``, ``-helpers``): the same
+  with ``vectorization_mode="vector_entry_point"`` (``legent_gym/envs/shared_vector.py``:
+  shared-memory batch, next-step autoreset, whose reset steps are not counted as steps);
 * ``collect``: ``legent-gym collect Legent/ComeHere-OneRoom-v0 --episodes 100 --out DIR
   --workers 1`` (its Python function, one core, default formats): successful expert
   trajectories per second, the whole call timed (a fresh DIR each round).
@@ -63,9 +66,9 @@ what a row costs the machine, whatever runs where. ``parent CPU us/step`` (vecto
 the process CPU time of the process that holds the vector env per env-step (receiving and
 decoding observations).
 
-``--scaling`` measures the async vector env at N = 1, 2, 4, ... up to the cores the process
-may use (and that count), with a new house every episode, ``episodes_per_house=8`` and
-(with ``--helpers`` > 0) helpers, and prints each N's steps/s and its ratio to N=1: the
+``--scaling`` measures the async vector env and the vector entry point at N = 1, 2, 4, ...
+up to the cores the process may use (and that count), with a new house every episode,
+``episodes_per_house=8`` and (with ``--helpers`` > 0) helpers, and prints each N's steps/s and its ratio to N=1: the
 run for a many-core machine.
 
 Headless Miniworld: Miniworld draws with pyglet 1.5 (OpenGL). With no display, a worker sets
@@ -121,7 +124,7 @@ def _configs() -> dict[str, dict]:
         row["label"] += ", helpers=H"
         rows[f"{base}-helpers"] = row
     for n in (1, 2, 8):
-        rows.update({name: vector_config(name) for name in (f"vec{n}", f"vec{n}-eph8")})
+        rows.update({name: vector_config(name) for name in (f"vec{n}", f"vec{n}-eph8", f"svec{n}", f"svec{n}-eph8")})
     rows["vec2-inline"] = {"kind": "vector", "env_id": LEGENT_IDS["OneRoom"], "num_envs": 2,
                            "label": "make_vec ComeHere-OneRoom, async, N=2, prepare_ahead=False",
                            "kwargs": {"prepare_ahead": False}}
@@ -136,9 +139,10 @@ def _configs() -> dict[str, dict]:
 
 def vector_config(name: str) -> dict:
     """``vecN`` (a new house every episode), ``vecN-eph8`` (``episodes_per_house=8``), and
-    either with ``-helpers`` (``helpers=H`` in every env)."""
+    either with ``-helpers`` (``helpers=H`` in every env); ``svec...``: the same with the
+    registered vector entry point instead of the async vector env."""
     parts = name.split("-")
-    n = int(parts[0][3:])
+    n = int(parts[0].removeprefix("s")[3:])
     kwargs: dict = {}
     label = f"make_vec ComeHere-OneRoom, async, N={n}"
     if "eph8" in parts:
@@ -147,6 +151,10 @@ def vector_config(name: str) -> dict:
     if "helpers" in parts:
         kwargs["helpers"] = "HELPERS"
         label += ", helpers=H"
+    if name.startswith("svec"):
+        label = label.replace(", async,", ", vector_entry_point,")
+        return {"kind": "vector", "mode": "vector_entry_point", "label": label, "env_id": LEGENT_IDS["OneRoom"],
+                "num_envs": n, "kwargs": kwargs}
     return {"kind": "vector", "label": label, "env_id": LEGENT_IDS["OneRoom"], "num_envs": n, "kwargs": kwargs}
 
 
@@ -154,19 +162,20 @@ def row_config(name: str) -> dict:
     """A row's configuration (vector rows of any N: see :func:`vector_config`)."""
     if name in CONFIGS:
         return CONFIGS[name]
-    if name.startswith("vec") and name[3:].split("-")[0].isdigit():
+    bare = name.removeprefix("s")
+    if bare.startswith("vec") and bare[3:].split("-")[0].isdigit():
         return vector_config(name)
     raise KeyError(name)
 
 
-def scaling_rows(cores: int, extra: str = "") -> list[str]:
-    """``vecN`` rows for N = 1, 2, 4, ... up to ``cores`` (and ``cores`` itself)."""
+def scaling_rows(cores: int, extra: str = "", prefix: str = "vec") -> list[str]:
+    """``vecN`` (``prefix``) rows for N = 1, 2, 4, ... up to ``cores`` (and ``cores`` itself)."""
     counts, n = [], 1
     while n < cores:
         counts.append(n)
         n *= 2
     counts.append(cores)
-    return [f"vec{n}{extra}" for n in counts]
+    return [f"{prefix}{n}{extra}" for n in counts]
 
 
 def tree_cpu() -> float:
@@ -230,23 +239,32 @@ class _Loop:
 
 class _VecLoop:
     def __init__(self, vec, actions, seed: int):
+        import gymnasium as gym
+
         self.vec, self.actions, self.i = vec, actions, 0
         self.n = vec.num_envs
+        # With the next-step autoreset the step after an episode's end is its reset, not a
+        # step: those are not counted (the same-step autoreset resets within the last step).
+        self.next_step = vec.metadata.get("autoreset_mode") == gym.vector.AutoresetMode.NEXT_STEP
+        self.resetting = 0
         vec.reset(seed=seed)
 
     def run(self, steps: int) -> dict:
         vec, actions, n, k = self.vec, self.actions, len(self.actions), self.n
         batches = max(1, steps // k)
-        ends = 0
+        ends = resets = 0
         wall0, cpu0, tree0 = time.perf_counter(), time.process_time(), tree_cpu()
         for _ in range(batches):
             batch = tuple(actions[(self.i + j) % n] for j in range(k))
             self.i += k
             _, _, terminated, truncated, _ = vec.step(batch)
-            ends += int(terminated.sum() + truncated.sum())
+            resets += self.resetting
+            ended = int(terminated.sum() + truncated.sum())
+            ends += ended
+            self.resetting = ended if self.next_step else 0
         # "cpu" is the parent's alone (receiving and decoding observations); "tree_cpu" all
         # processes' (the env workers and their helpers).
-        return {"steps": batches * k, "wall": time.perf_counter() - wall0, "cpu": None,
+        return {"steps": batches * k - resets, "wall": time.perf_counter() - wall0, "cpu": None,
                 "parent_cpu": time.process_time() - cpu0, "tree_cpu": tree_cpu() - tree0, "reset_ms": [],
                 "episodes": ends, "terminated": None}
 
@@ -323,10 +341,14 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
 
         import legent_gym  # noqa: F401
 
-        vec = gym.make_vec(config["env_id"], num_envs=config["num_envs"], vectorization_mode="async",
-                           vector_kwargs={"context": "forkserver",
-                                          "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP},
-                           width=args.size, height=args.size, **config["kwargs"])
+        if config.get("mode") == "vector_entry_point":
+            vec = gym.make_vec(config["env_id"], num_envs=config["num_envs"], vectorization_mode="vector_entry_point",
+                               width=args.size, height=args.size, **config["kwargs"])
+        else:
+            vec = gym.make_vec(config["env_id"], num_envs=config["num_envs"], vectorization_mode="async",
+                               vector_kwargs={"context": "forkserver",
+                                              "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP},
+                               width=args.size, height=args.size, **config["kwargs"])
         loop = _VecLoop(vec, legent_actions(4096, seed), seed)
         facts["cores"] = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
     elif kind == "collect":
@@ -495,10 +517,11 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
                 row["attempts"] = sum(r["attempts"] for r in w.results)
         rows[name] = row
     for name in workers:
-        if not name.startswith("vec") or name.startswith("vec1-") or name == "vec1":
+        prefix = "svec" if name.startswith("svec") else "vec"
+        if not name.startswith(prefix) or name.startswith(f"{prefix}1-") or name == f"{prefix}1":
             continue
         rest = name.split("-", 1)[1] if "-" in name else ""
-        one = "vec1" + (f"-{rest}" if rest and rest != "inline" else "")
+        one = f"{prefix}1" + (f"-{rest}" if rest and rest != "inline" else "")
         if one in workers and workers[one].results and workers[name].results:
             rows[name]["x_vec1"] = statistics.median(
                 _rate(b) / _rate(a) for a, b in zip(workers[one].results, workers[name].results))
@@ -614,7 +637,8 @@ def main(argv=None) -> int:
     parser.add_argument("--helpers", type=int, default=1, help="helpers=H of the *-helpers rows")
     parser.add_argument("--scaling", action="store_true",
                         help="instead of --only: the async vector env at N = 1, 2, 4, ... cores workers "
-                             "(vecN, vecN-eph8, and with --helpers > 0 vecN-helpers), ratios to N=1")
+                             "(vecN, vecN-eph8, and with --helpers > 0 vecN-helpers) and the same of the vector "
+                             "entry point (svecN...), ratios to N=1")
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--houses-json", help=argparse.SUPPRESS)
     parser.add_argument("--scratch", help=argparse.SUPPRESS)
@@ -631,8 +655,9 @@ def main(argv=None) -> int:
     if args.scaling:
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
         names = scaling_rows(cores) + scaling_rows(cores, "-eph8")
+        names += scaling_rows(cores, prefix="svec") + scaling_rows(cores, "-eph8", prefix="svec")
         if args.helpers:
-            names += scaling_rows(cores, "-helpers")
+            names += scaling_rows(cores, "-helpers") + scaling_rows(cores, "-helpers", prefix="svec")
     unknown = []
     for n in names:
         try:
@@ -640,7 +665,7 @@ def main(argv=None) -> int:
         except (KeyError, ValueError):
             unknown.append(n)
     if unknown:
-        parser.error(f"unknown rows {unknown}; known: {', '.join(CONFIGS)} and vecN[-eph8][-helpers]")
+        parser.error(f"unknown rows {unknown}; known: {', '.join(CONFIGS)} and [s]vecN[-eph8][-helpers]")
     if REFERENCE not in names:
         names.append(REFERENCE)
     known = [n for n in CONFIGS if n in names]

@@ -5,7 +5,10 @@ every layout of :data:`LAYOUTS`, and ``Legent/Custom-v0`` (:data:`SCENE_TASK_IDS
 from a file, in a given scene), capped at :data:`legent_gym.tasks.MAX_ACTIONS` actions.
 Both action spaces come from the same id: ``gym.make(id)`` gives the text actions,
 ``gym.make(id, action_type="continuous")`` the Dict actions. Entry points are strings so
-that ``EnvSpec.to_json()`` works (Minari needs it).
+that ``EnvSpec.to_json()`` works (Minari needs it). Every id has the vector entry point
+:data:`VECTOR_ENTRY_POINT`: ``gym.make_vec(id, N, vectorization_mode="vector_entry_point")``
+(and ``gym.make_vec(id, N)`` with no mode) gives
+:class:`legent_gym.envs.shared_vector.SharedMemoryVectorEnv`.
 """
 
 from __future__ import annotations
@@ -27,6 +30,9 @@ ENV_IDS: tuple[str, ...] = tuple(env_id for env_id, _, _ in ID_TABLE)
 #: ``scene=`` and ``tasks=`` (see :mod:`legent_gym.tasks.custom`), so they are not among
 #: :data:`ENV_IDS`, whose every id makes an env with no arguments.
 SCENE_TASK_IDS: tuple[tuple[str, str], ...] = (("Legent/Custom-v0", "Custom"),)
+#: Every id's ``vector_entry_point`` (``gym.make_vec(id, num_envs, vectorization_mode=
+#: "vector_entry_point")``): :func:`legent_gym.envs.shared_vector.make_vector`.
+VECTOR_ENTRY_POINT = "legent_gym.envs.shared_vector:make_vector"
 
 
 def id_kwargs(env_id: str) -> dict[str, str]:
@@ -47,8 +53,10 @@ def register_envs() -> None:
             kwargs={"task": task, "layout": layout},
             max_episode_steps=MAX_ACTIONS,
             disable_env_checker=False,
+            vector_entry_point=VECTOR_ENTRY_POINT,
         )
     for env_id, task in SCENE_TASK_IDS:
         if env_id not in gym.registry:
             gym.register(id=env_id, entry_point="legent_gym.envs.household:HouseholdEnv", kwargs={"task": task},
-                         max_episode_steps=MAX_ACTIONS, disable_env_checker=False)
+                         max_episode_steps=MAX_ACTIONS, disable_env_checker=False,
+                         vector_entry_point=VECTOR_ENTRY_POINT)

@@ -1,0 +1,239 @@
+"""The registered vector entry point (legent_gym/envs/shared_vector.py): ``gym.make_vec(id, N,
+vectorization_mode="vector_entry_point")`` returns the same observations, rewards,
+terminations, truncations and infos as Gymnasium's ``SyncVectorEnv`` of the same seeds and
+actions (every key and type, the infos' key order too), across autoresets and truncations,
+partial and unseeded resets; passes Gymnasium's ``check_environments_match`` against it;
+raises a worker's error with its traceback; and leaves no process or ``/dev/shm`` entry
+behind, closed, killed or orphaned.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import psutil
+import pytest
+from gymnasium.utils.env_checker import data_equivalence
+from gymnasium.vector import AutoresetMode
+
+import legent_gym  # noqa: F401
+from legent_gym.envs.shared_vector import SharedMemoryVectorEnv, WorkerError, _leaves, worker_pids
+
+ENV_ID = "Legent/ComeHere-OneRoom-v0"
+SMALL = {"width": 32, "height": 32}
+#: Three envs' text actions per step: env 0 finishes at step 2 (and resets at step 3), env
+#: 2 speaks and turns; with max_episode_steps=4 env 1 and 2 are truncated at step 4.
+ACTIONS = [
+    ["move_forward(0.5)", "rotate_right(30)", 'speak("Where are you?")'],
+    ["finish()", "move_forward(0.5), rotate_right(-30)", "rotate_right(30)"],
+    ["rotate_right(30)", "rotate_down(10)", "not an action"],
+    ["move_forward(0.5)", "grab()", "move_forward(1)"],
+    ['speak("On my way.")', "rotate_right(30)", "finish()"],
+    ["rotate_right(-30)", "move_forward(0.5)", "rotate_right(10)"],
+]
+
+
+def _ours(envs: SharedMemoryVectorEnv) -> list[str]:
+    """The entries the vector env would have in /dev/shm: its named semaphores, whose names
+    go once the workers have opened them (the shared batch is an unlinked file from the
+    start)."""
+    channel = envs._channel
+    return [f"sem.{sem._semlock.name.lstrip('/')}" for sem in (*channel.go, channel.lock, channel.all_in)]
+
+
+def _assert_shm_gone(names: list[str], seconds: float = 0.0) -> None:
+    deadline = time.monotonic() + seconds
+    while (left := [n for n in names if os.path.exists(f"/dev/shm/{n}")]) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not left, f"left in /dev/shm: {left}"
+    assert not [n for n in os.listdir("/dev/shm") if n.startswith(f"pym-{os.getpid()}-")]
+
+
+def _same(a, b, where: str) -> None:
+    assert data_equivalence(a, b, exact=True), f"{where}: {a!r} != {b!r}"
+    if isinstance(a, dict):
+        assert list(a) == list(b), f"{where}: key order {list(a)} != {list(b)}"
+        for key in a:
+            _same(a[key], b[key], f"{where}[{key!r}]")
+
+
+def _pair(n: int = 3, **kwargs):
+    ours = gym.make_vec(ENV_ID, num_envs=n, vectorization_mode="vector_entry_point", **SMALL, **kwargs)
+    sync = gym.make_vec(ENV_ID, num_envs=n, vectorization_mode="sync", **SMALL, **kwargs)
+    return ours, sync
+
+
+def test_make_vec_returns_it_for_every_id():
+    for env_id, spec in gym.registry.items():
+        if env_id.startswith("Legent/"):
+            assert spec.vector_entry_point == "legent_gym.envs.shared_vector:make_vector", env_id
+    envs = gym.make_vec(ENV_ID, num_envs=2, **SMALL)  # no mode: Gymnasium prefers the entry point
+    try:
+        assert isinstance(envs, SharedMemoryVectorEnv) and envs.num_envs == 2
+        assert envs.metadata["autoreset_mode"] is AutoresetMode.NEXT_STEP
+        assert envs.spec.kwargs["vectorization_mode"] == "vector_entry_point"
+        assert envs.env_id == ENV_ID and envs.env_kwargs["max_episode_steps"] == 25
+        assert envs.single_observation_space == gym.make(ENV_ID, **SMALL).observation_space
+        assert envs.call("spec")[0].max_episode_steps == 25
+    finally:
+        envs.close()
+    two = gym.make_vec("Legent/GoTo-TwoRoom-v0", num_envs=1, vectorization_mode="vector_entry_point", **SMALL)
+    try:
+        assert two.env_id == "Legent/GoTo-TwoRoom-v0"
+        assert two.get_attr("layout") == ("TwoRoom",)
+    finally:
+        two.close()
+
+
+def test_same_results_as_sync_vector_env():
+    """Seeded and unseeded resets, an autoreset (env 0), truncations (max_episode_steps=4),
+    a partial reset with reset_mask: every return value equal, types and key order too."""
+    ours, sync = _pair(max_episode_steps=4)
+    try:
+        _same(ours.reset(seed=7), sync.reset(seed=7), "reset")
+        terminated, truncated = np.zeros(3, dtype=bool), np.zeros(3, dtype=bool)
+        for t, actions in enumerate(ACTIONS):
+            got, want = ours.step(np.array(actions, dtype=object)), sync.step(np.array(actions, dtype=object))
+            _same(got, want, f"step {t + 1}")
+            terminated |= got[2]
+            truncated |= got[3]
+        assert terminated[0] and truncated.any() and (terminated | truncated).all(), "every episode ended"
+        assert want[4]["task"]["name"][0] == "ComeHere" and want[0]["instruction"][0].strip()
+        mask = np.array([False, True, True])
+        _same(ours.reset(seed=[None, 11, 12], options={"reset_mask": mask.copy()}),
+              sync.reset(seed=[None, 11, 12], options={"reset_mask": mask.copy()}), "partial reset")
+        _same(ours.step(("rotate_right(20)",) * 3), sync.step(("rotate_right(20)",) * 3), "after the partial reset")
+        _same(ours.reset(), sync.reset(), "unseeded reset")
+        _same(ours.step(("move_forward(0.3)",) * 3), sync.step(("move_forward(0.3)",) * 3), "after it")
+        with pytest.raises(ValueError, match="length must match num_envs=3"):
+            ours.reset(seed=[1, 2])
+        with pytest.raises(TypeError, match="reset_mask"):
+            ours.reset(options={"reset_mask": [True, False, True]})
+    finally:
+        ours.close()
+        sync.close()
+
+
+def test_sampled_continuous_actions_match_sync_and_stay_in_the_spaces():
+    """Gymnasium's vector checks as they apply: sampled Dict actions of the batched action
+    space over autoresets (``check_environments_match``'s loop, whose own asserts are for a
+    single env), observations in the batched observation space, arrays not reused from one
+    step to the next (``check_returned_data_not_reused``), renders equal."""
+    ours, sync = _pair(2, action_type="continuous", max_episode_steps=5, render_mode="rgb_array")
+    try:
+        assert ours.action_space == sync.action_space and ours.observation_space == sync.observation_space
+        sync.action_space.seed(3)
+        _same(ours.reset(seed=3), sync.reset(seed=3), "reset")
+        _same(ours.render(), sync.render(), "render")
+        previous = None
+        for t in range(12):
+            action = sync.action_space.sample()
+            got = ours.step(action)
+            _same(got, sync.step(action), f"step {t + 1}")
+            assert ours.observation_space.contains(got[0]), f"step {t + 1}"
+            assert previous is None or got[0]["rgb"] is not previous and not np.shares_memory(got[0]["rgb"], previous)
+            previous = got[0]["rgb"]
+        _same(ours.render(), sync.render(), "render")
+        assert ours.render()[0].shape == (256, 256, 3)
+    finally:
+        ours.close()
+        sync.close()
+
+
+def test_copy_false_views_and_attributes():
+    views = SharedMemoryVectorEnv(ENV_ID, 2, copy=False, **SMALL)
+    try:
+        obs, _ = views.reset(seed=0)
+        first = obs["rgb"].copy()
+        views.step(("rotate_right(90)", "rotate_right(90)"))
+        assert not np.array_equal(obs["rgb"], first)  # the shared batch itself
+        views.set_attr("reward_type", ["dense", "dense"])
+        assert views.get_attr("reward_type") == ("dense", "dense")
+    finally:
+        views.close()
+
+
+def test_a_workers_error_names_it_with_its_traceback():
+    envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", strict=True, **SMALL)
+    pids, names = worker_pids(envs), _ours(envs)
+    _assert_shm_gone(names)  # already
+    try:
+        envs.reset(seed=0)
+        with pytest.raises(WorkerError, match=r"worker 1 \(pid \d+\) of Legent/ComeHere-OneRoom-v0 raised "
+                                              r"ActionParseError in step") as raised:
+            envs.step(("rotate_right(10)", "fly()"))
+        assert raised.value.index == 1 and "The worker's traceback:\nTraceback" in str(raised.value)
+        with pytest.raises(RuntimeError, match="cannot go on after a worker's error"):
+            envs.step(("rotate_right(10)", "rotate_right(10)"))
+    finally:
+        envs.close()
+    _assert_gone(pids)
+    _assert_shm_gone(names)
+
+
+def test_a_killed_worker_is_named_and_close_cleans_up():
+    envs = gym.make_vec(ENV_ID, num_envs=3, vectorization_mode="vector_entry_point", **SMALL)
+    pids, names = worker_pids(envs), _ours(envs)
+    try:
+        envs.reset(seed=0)
+        os.kill(pids[1], signal.SIGKILL)
+        with pytest.raises(WorkerError, match=r"worker 1 \(pid \d+\) of .* died while step \(exit code -9\)"):
+            envs.step(("rotate_right(10)",) * 3)
+    finally:
+        envs.close()
+    _assert_gone(pids)
+    _assert_shm_gone(names)
+
+
+def test_unsupported_observation_spaces_are_refused_by_name():
+    with pytest.raises(TypeError, match="Graph spaces.*vectorization_mode='async'"):
+        _leaves(gym.spaces.Dict({"g": gym.spaces.Graph(gym.spaces.Box(0, 1, (2,)), None)}))
+
+
+_ORPHAN = """
+import os, sys
+sys.path.insert(0, {repo!r})
+import gymnasium as gym
+import legent_gym
+from legent_gym.envs.shared_vector import worker_pids
+from tests.test_vector_entry_point import _ours
+
+if __name__ == "__main__":
+    envs = gym.make_vec({env_id!r}, num_envs=2, vectorization_mode="vector_entry_point", width=32, height=32)
+    envs.reset(seed=0)
+    print(*worker_pids(envs), flush=True)
+    print(*_ours(envs), flush=True)
+    os.kill(os.getpid(), 9)  # no close, no atexit
+"""
+
+
+def test_workers_end_when_their_process_is_killed(tmp_path):
+    """Killed with -9 (no close, no atexit): the workers see it and end; the semaphores'
+    names go with multiprocessing's resource tracker."""
+    script = tmp_path / "orphan.py"
+    script.write_text(textwrap.dedent(_ORPHAN.format(repo=str(Path(__file__).resolve().parents[1]), env_id=ENV_ID)))
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=240)
+    lines = done.stdout.splitlines()
+    assert done.returncode == -9 and len(lines) == 2, done.stderr[-2000:]
+    pids, names = [int(p) for p in lines[0].split()], lines[1].split()
+    assert len(pids) == 2 and len(names) == 4
+    _assert_gone(pids, seconds=30)
+    _assert_shm_gone(names, seconds=30)
+
+
+def _assert_gone(pids: list[int], seconds: float = 10.0) -> None:
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        alive = [p for p in pids if psutil.pid_exists(p) and psutil.Process(p).status() != psutil.STATUS_ZOMBIE]
+        if not alive:
+            return
+        time.sleep(0.1)
+    pytest.fail(f"worker processes still running: {alive}")
