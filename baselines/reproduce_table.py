@@ -82,7 +82,7 @@ from baselines.vla.checkpoint import read_checkpoint  # noqa: E402
 from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  # noqa: E402
 from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
-from legent_gym.tasks import PAPER_WHERE_IS  # noqa: E402
+from legent_gym.tasks import PAPER_WHERE_IS, WhereIs, task_class  # noqa: E402
 from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
 from legent_gym.utils.scale import Backend, connect_ray  # noqa: E402
 from legent_gym.utils.workers import map_ordered  # noqa: E402
@@ -174,8 +174,9 @@ def collect_command(task: str, index: int, episodes: int, out: Path, scale: Scal
 
 
 def task_options(task: str, paper_where_is: bool) -> dict:
-    """The ``task_options`` of this task's envs (data and evaluation alike)."""
-    if paper_where_is and task.startswith("WhereIs"):
+    """The ``task_options`` of this task's envs (data and evaluation alike): LEGENT's
+    questions (:data:`PAPER_WHERE_IS`) are WhereIs's options."""
+    if paper_where_is and issubclass(task_class(task.split("-")[0]), WhereIs):
         return {name: list(categories) for name, categories in PAPER_WHERE_IS.items()}
     return {}
 
@@ -192,8 +193,8 @@ def _paper(task: str, paper_where_is: bool) -> str:
 
 
 def scans(task: str, scan: bool) -> bool:
-    """Whether ``--scan`` changes this task's expert (only Where Is calls ``find``)."""
-    return scan and task.startswith("WhereIs")
+    """Whether ``--scan`` changes this task's expert (only code that calls ``find``: Where Is)."""
+    return scan and "find(" in task_class(task.split("-")[0]).code
 
 
 def data_folder(root: Path, task: str, perturb: float = 0.0, scan: bool = False, paper_where_is: bool = False) -> Path:

@@ -8,7 +8,9 @@ Both action spaces come from the same id: ``gym.make(id)`` gives the text action
 that ``EnvSpec.to_json()`` works (Minari needs it). Every id has the vector entry point
 :data:`VECTOR_ENTRY_POINT`: ``gym.make_vec(id, N, vectorization_mode="vector_entry_point")``
 (and ``gym.make_vec(id, N)`` with no mode) gives
-:class:`legent_gym.envs.shared_vector.SharedMemoryVectorEnv`.
+:class:`legent_gym.envs.shared_vector.SharedMemoryVectorEnv`. A task registered after
+``import legent_gym`` (one defined outside the package) gets its ids when
+:func:`register_envs` runs again.
 """
 
 from __future__ import annotations
@@ -22,9 +24,15 @@ from legent_gym.tasks import TASKS as TASK_TABLE
 TASKS: tuple[str, ...] = tuple(TASK_TABLE)
 #: The generation presets that get ids (``Apartment`` is a preset too, reached with ``layout=``).
 LAYOUTS = ("OneRoom", "TwoRoom", "FourRoom")
-#: (env id, task, layout) for every registered id.
-ID_TABLE: tuple[tuple[str, str, str], ...] = tuple((f"Legent/{task}-{layout}-v0", task, layout)
-                                                   for task in TASKS for layout in LAYOUTS)
+
+
+def id_table() -> tuple[tuple[str, str, str], ...]:
+    """(env id, task, layout) for every task registered now and every layout."""
+    return tuple((f"Legent/{task}-{layout}-v0", task, layout) for task in TASK_TABLE for layout in LAYOUTS)
+
+
+#: (env id, task, layout) for every id of the built-in tasks.
+ID_TABLE: tuple[tuple[str, str, str], ...] = id_table()
 ENV_IDS: tuple[str, ...] = tuple(env_id for env_id, _, _ in ID_TABLE)
 #: (env id, task) of the ids whose tasks are read from a file for one scene: they take
 #: ``scene=`` and ``tasks=`` (see :mod:`legent_gym.tasks.custom`), so they are not among
@@ -37,14 +45,16 @@ VECTOR_ENTRY_POINT = "legent_gym.envs.shared_vector:make_vector"
 
 def id_kwargs(env_id: str) -> dict[str, str]:
     """``{"task": ..., "layout": ...}`` of a registered id."""
-    for known, task, layout in ID_TABLE:
+    table = id_table()
+    for known, task, layout in table:
         if env_id == known:
             return {"task": task, "layout": layout}
-    raise ValueError(f"unknown env id {env_id!r}; known: {', '.join(ENV_IDS)}")
+    raise ValueError(f"unknown env id {env_id!r}; known: {', '.join(known for known, _, _ in table)}")
 
 
 def register_envs() -> None:
-    for env_id, task, layout in ID_TABLE:
+    """Register the ids of every task registered now (those registered already are kept)."""
+    for env_id, task, layout in id_table():
         if env_id in gym.registry:
             continue
         gym.register(

@@ -13,6 +13,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from legent_gym.tasks import TASKS
+
 SCENE_PLAN_PROMPT_VERSION = 1
 
 SCENE_PLAN_PROMPT = """\
@@ -55,7 +57,9 @@ def scene_plan_messages(prompt: str, catalog: Any = None) -> list[dict[str, str]
 
 # -- tasks for a scene -------------------------------------------------------------------
 
-TASK_PROMPT_VERSION = 1
+#: 2: the kinds, which objects may be picked up, and the code examples come from the
+#: registered tasks (:data:`legent_gym.tasks.TASKS`: each task's ``kinds`` and ``code``).
+TASK_PROMPT_VERSION = 2
 
 TASK_PROMPT = """\
 You write tasks for an embodied agent in a 3-D house, in the manner of LEGENT's task \
@@ -71,26 +75,35 @@ Write {n} different tasks as one JSON object, with no text around it:
 {{"tasks": [{{"kind": "<kind>", "instruction": "<what the user says>", "target": <object id or null>,
              "receptacle": <object id or null>, "code": "<the agent's intermediate code>"}}]}}
 
-Kinds: "come" (come to the user; no target), "goto" (go to the target), "take" (pick up the \
-target), "bring" (bring the target to the user), "put" (put the target on the receptacle), \
-"where" (say where the target is: the receptacle is what it stands on), "exist" (is there \
-such a thing? answer where it is: the receptacle is what it stands on). Only objects that \
-can be picked up may be taken, brought or put.
+Kinds: {kinds}. Only objects that can be picked up may be the target of {fetching}.
 Code is a sequence of calls: goto_user(), goto(id), find(id), target(id), interact(), \
 grab(), put(), speak("..."), finish(). goto(id) walks to the object; target(id) aims at it; \
 interact() grabs what is aimed at, or puts the held object where it aims. For example: \
-take: goto(7) target(7) interact(); bring: goto(7) target(7) interact() goto_user(); put: \
-goto(7) target(7) interact() goto(3) target(3) interact(); where: find(7) speak("It's on \
-the table."). Use only the ids of the table."""
+{examples}. Use only the ids of the table."""
 
 TASK_USER = "Write {n} tasks for this house."
+#: The objects and the receptacle's name the code examples of :data:`TASK_PROMPT` use.
+EXAMPLE_CODE_FIELDS = {"a": 7, "b": 3, "b_name": "table"}
+
+
+def task_kinds_text() -> dict[str, str]:
+    """The parts of :data:`TASK_PROMPT` read from the registered tasks: ``kinds`` (each
+    kind of a tasks file and what it asks), ``fetching`` (the kinds whose target is picked
+    up) and ``examples`` (each task's code, by its first kind)."""
+    tasks = [task for task in TASKS.values() if task.kinds]
+    quoted = [f'"{kind}"' for task in tasks if task.fetches_target() for kind in task.kinds]
+    return {"kinds": ", ".join(f'"{kind}" ({text})' for task in tasks for kind, text in task.kinds.items()),
+            "fetching": " or ".join(filter(None, (", ".join(quoted[:-1]), *quoted[-1:]))) or "no kind",
+            "examples": "; ".join(f"{next(iter(task.kinds))}: {task.code.format(**EXAMPLE_CODE_FIELDS)}"
+                                  for task in tasks if task.code)}
 
 
 def task_messages(objects: str, agent_xy: tuple[float, float], user_xy: tuple[float, float] | None,
                   n: int) -> list[dict[str, str]]:
     """The chat messages that ask for ``n`` tasks in a house with this object table."""
     user = "nowhere (no user)" if user_xy is None else f"({user_xy[0]:.2f}, {user_xy[1]:.2f})"
-    system = TASK_PROMPT.format(objects=objects, agent_x=agent_xy[0], agent_y=agent_xy[1], user=user, n=n)
+    system = TASK_PROMPT.format(objects=objects, agent_x=agent_xy[0], agent_y=agent_xy[1], user=user, n=n,
+                                **task_kinds_text())
     return [{"role": "system", "content": system}, {"role": "user", "content": TASK_USER.format(n=n)}]
 
 

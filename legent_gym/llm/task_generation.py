@@ -11,8 +11,10 @@ by :func:`from_legent_text`). Each task is then checked, in order:
    kind needs);
 2. its code: parsed by :func:`~legent_gym.experts.program.parse_program`, every id in the
    scene (:func:`~legent_gym.experts.program.check_program`);
-3. its objects: in the scene; what is taken, brought or put can be picked up; for
-   ``where`` and ``exist``, the receptacle is what the target stands on;
+3. its objects: in the scene; a target the kind's task picks up (its code starts by
+   fetching it) can be picked up; and what the task's ``spec_problem`` asks (for
+   ``where`` and ``exist``, the receptacle is what the target stands on; for ``put``, not
+   where it stands already);
 4. the env (``Legent/Custom-v0`` in the scene, from the scene's spawns): not done before
    any action; its code, run by :class:`~legent_gym.experts.ProgramExecutor`, succeeds as
    its kind judges within :data:`~legent_gym.tasks.MAX_ACTIONS` actions; and so does the
@@ -36,7 +38,7 @@ from typing import Any
 
 from pydantic import BaseModel, Field, ValidationError
 
-from legent_gym.tasks.custom import KIND_OBJECTS, TASKS_FORMAT, TASKS_VERSION, TaskSpec
+from legent_gym.tasks.custom import TASKS_FORMAT, TASKS_VERSION, TaskSpec
 
 #: The most tasks one request asks for.
 MAX_TASKS = 100
@@ -132,21 +134,14 @@ def _static_problem(spec: TaskSpec, ctx: Any) -> str | None:
     except ProgramError as err:
         return f"code: {err}"
     ids = {o.id: o for o in ctx.scene.objects}
-    for role in KIND_OBJECTS[spec.kind]:
+    task = spec.task
+    for role in task.roles:
         if getattr(spec, role) not in ids:
             return f"{role} {getattr(spec, role)}: no object with that id in the scene"
     a = spec.target
-    if spec.kind in ("take", "bring", "put") and ids[a].kind != "interactable":
+    if task.fetches_target() and a is not None and ids[a].kind != "interactable":
         return f"target {a} ({ctx.name_of(a)}) cannot be picked up"
-    if spec.kind in ("where", "exist"):
-        host = ids[a].on
-        if host != spec.receptacle:
-            where = "the floor" if host is None else f"{ctx.name_of(host)} ({host})"
-            return (f"target {a} ({ctx.name_of(a)}) stands on {where}, not on {spec.receptacle} "
-                    f"({ctx.name_of(spec.receptacle)})")
-    if spec.kind == "put" and ids[a].on == spec.receptacle:
-        return f"target {a} ({ctx.name_of(a)}) is on {spec.receptacle} already"
-    return None
+    return task.spec_problem(ctx, spec.target, spec.receptacle)
 
 
 def _run(env: Any, index: int, policy: str, code: str) -> tuple[bool, int, str]:

@@ -31,13 +31,11 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
 from legent_gym.tasks.base import Task, TaskContext, TaskInstance
-from legent_gym.tasks.registry import register_task, task_kinds, task_of_kind
+from legent_gym.tasks.registry import register_task, task_of_kind
 
 #: The first line of a tasks file names this format.
 TASKS_FORMAT = "legent-gym-tasks"
 TASKS_VERSION = 1
-#: The object fields each kind of the built-in tasks needs (their task's ``roles``).
-KIND_OBJECTS: dict[str, tuple[str, ...]] = {kind: task.roles for kind, task in task_kinds().items()}
 
 
 class TaskSpec(BaseModel):
