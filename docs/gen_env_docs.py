@@ -15,7 +15,8 @@ import gymnasium as gym
 
 import legent_gym
 from legent_gym.envs.registration import ID_TABLE, SCENE_TASK_IDS
-from legent_gym.tasks import MAX_ACTIONS
+from legent_gym.experts import code_template
+from legent_gym.tasks import MAX_ACTIONS, TASKS
 from legent_gym.utils.atomic import atomic_write_text
 
 OUT = Path(__file__).resolve().parent / "envs"
@@ -32,7 +33,23 @@ def page() -> str:
     return (f"# Household environments\n\n"
             f"| id | task | layout | max steps |\n|---|---|---|---|\n{ids}\n\n"
             "Every id takes both action spaces: `gym.make(id)` (text) or "
-            "`gym.make(id, action_type=\"continuous\")`.\n\n" + doc + "\n")
+            "`gym.make(id, action_type=\"continuous\")`.\n\n" + tasks_table() + "\n\n" + doc + "\n")
+
+
+def tasks_table() -> str:
+    """The registered tasks, each as its class says: the paper's wording of its instruction,
+    success (its module's docstring from "Success:"), the expert's code and its kinds of a
+    tasks file."""
+    rows = []
+    for name, task in TASKS.items():
+        module_doc = " ".join((inspect.getmodule(task).__doc__ or "").split())
+        success = module_doc.split("Success: ", 1)[1] if "Success: " in module_doc else ""
+        kinds = ", ".join(f"`{kind}`" for kind in task.kinds)
+        rows.append(f"| {name} | {task.templates[0].format(a='A', b='B')} | {success} | "
+                    f"`{code_template(task)}` | {kinds} |")
+    return ("## Tasks\n\nEach task is one file of `legent_gym/tasks/` (docs/adding-a-task.md adds one).\n\n"
+            "| task | instruction | success | expert code | tasks-file kinds |\n|---|---|---|---|---|\n"
+            + "\n".join(rows))
 
 
 def multiagent_page() -> str:

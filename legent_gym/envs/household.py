@@ -73,7 +73,8 @@ class HouseholdEnv(gym.Env):
     interact with what is at the centre of its view (grab, put, open, close). Each reset
     draws a new procedurally generated house (or the house you fix) and a new goal.
 
-    The task is chosen with ``task``: ``ComeHere`` (go to the user), ``GoTo`` (go to an
+    The task is chosen with ``task``, the name of a registered task
+    (:data:`legent_gym.tasks.TASKS`): ``ComeHere`` (go to the user), ``GoTo`` (go to an
     object), ``PickUp`` (hold an object), ``BringMe`` (hold an object near the user),
     ``WhereIs`` (say what the object lies on), ``PutOn`` (put an object on a receptacle).
     Instructions come from paraphrase templates ("Bring me the apple.").
@@ -143,7 +144,8 @@ class HouseholdEnv(gym.Env):
     ``max_episode_steps`` actions (25 by default, the paper's evaluation cap).
 
     ## Arguments
-    * ``task``: ComeHere, GoTo, PickUp, BringMe, WhereIs or PutOn; or Custom (``Legent/Custom-v0``).
+    * ``task``: a registered task (ComeHere, GoTo, PickUp, BringMe, WhereIs, PutOn, ...); or
+      Custom (``Legent/Custom-v0``).
     * ``tasks``: for Custom, a tasks file of the house given as ``scene`` (``legent-gym tasks generate``).
     * ``layout``: the generation preset of new houses: OneRoom, TwoRoom, FourRoom or
       Apartment.
