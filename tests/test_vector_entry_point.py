@@ -9,7 +9,9 @@ behind, closed, killed or orphaned.
 
 from __future__ import annotations
 
+import copy
 import os
+import pickle
 import signal
 import subprocess
 import sys
@@ -25,7 +27,13 @@ from gymnasium.utils.env_checker import data_equivalence
 from gymnasium.vector import AutoresetMode
 
 import legent_gym  # noqa: F401
-from legent_gym.envs.shared_vector import SharedMemoryVectorEnv, WorkerError, _leaves, worker_pids
+from legent_gym.envs.shared_vector import (
+    LazyInfos,
+    SharedMemoryVectorEnv,
+    WorkerError,
+    _leaves,
+    worker_pids,
+)
 
 ENV_ID = "Legent/ComeHere-OneRoom-v0"
 SMALL = {"width": 32, "height": 32}
@@ -159,6 +167,28 @@ def test_copy_false_views_and_attributes():
         assert views.get_attr("reward_type") == ("dense", "dense")
     finally:
         views.close()
+
+
+def test_lazy_infos_hold_the_same_as_sync_when_read_later():
+    """lazy_infos=True (through make_vec): each step's infos, read only after later steps,
+    equal the sync vector env's of that step; copies and pickles are plain dicts."""
+    ours = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", lazy_infos=True,
+                        max_episode_steps=3, **SMALL)
+    sync = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="sync", max_episode_steps=3, **SMALL)
+    try:
+        got, want = [ours.reset(seed=5)[1]], [sync.reset(seed=5)[1]]
+        for actions in ACTIONS[:5]:
+            got.append(ours.step(actions[:2])[4])
+            want.append(sync.step(actions[:2])[4])
+        for t, (lazy, plain) in enumerate(zip(got, want)):
+            assert isinstance(lazy, LazyInfos) and isinstance(lazy, dict)
+            _same(lazy.copy(), plain, f"step {t}")
+            assert list(lazy) == list(plain) and len(lazy) == len(plain) and "_task" in lazy
+            assert type(pickle.loads(pickle.dumps(lazy))) is dict and type(copy.deepcopy(lazy)) is dict
+        assert list(got[3]["n_actions"]) == [0, 3]  # env 1 truncated at step 3: read two steps later
+    finally:
+        ours.close()
+        sync.close()
 
 
 def test_a_workers_error_names_it_with_its_traceback():

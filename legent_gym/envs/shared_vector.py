@@ -41,7 +41,7 @@ worker process and costs the calling process little per env-step:
 Observation spaces of ``Box``, ``Discrete``, ``MultiBinary``, ``MultiDiscrete`` and
 ``Text`` leaves, nested in ``Dict`` and ``Tuple``, are supported (all the envs' spaces); the
 class may be made directly, with an env id, the env's keyword arguments and its own
-options (``copy``)::
+options (``copy``, ``lazy_infos``; these two also through ``make_vec``)::
 
     from legent_gym.envs.shared_vector import SharedMemoryVectorEnv
 
@@ -59,6 +59,7 @@ import signal
 import time
 import traceback
 from collections.abc import Callable, Iterable, Iterator, Sequence
+from copy import deepcopy
 from itertools import chain
 from operator import itemgetter
 from typing import Any
@@ -69,7 +70,7 @@ from gymnasium import spaces
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space, iterate
 
-__all__ = ["SharedMemoryVectorEnv", "WorkerError", "make_vector"]
+__all__ = ["LazyInfos", "SharedMemoryVectorEnv", "WorkerError", "make_vector"]
 
 #: The vector entry point registered for every id (``legent_gym/envs/registration.py``).
 VECTOR_ENTRY_POINT = f"{__name__}:make_vector"
@@ -182,18 +183,17 @@ class _ObsReader:
     def __init__(self, layout: _Layout, views: _Views, copy: bool):
         self.space, self.layout, self.views, self.copy = layout.space, layout, views, copy
         self._texts: dict[int, tuple[str, ...]] = {}
-        self._versions = views.text_versions.copy()
-        self._versions[:] = -1
+        self._versions = b""
 
     def read(self) -> Any:
         views, layout = self.views, self.layout
         values: list[Any] = [view.copy() if self.copy and leaf.kind != "text" else view
                              for leaf, view in zip(layout.obs, views.obs)]
         if layout.texts:
-            versions = views.text_versions
-            if not np.array_equal(versions, self._versions):
+            versions = views.text_versions.tobytes()
+            if versions != self._versions:
                 self._texts.clear()
-                self._versions = versions.copy()
+                self._versions = versions
             for k in layout.texts:
                 text = self._texts.get(k)
                 if text is None:
@@ -301,6 +301,15 @@ class _InfoBook:
             infos = self._add_info(infos, _unflatten(self.schemas[i], self.values[i]), i)
         return infos
 
+    def lazy(self, envs: Sequence[int] | None = None) -> LazyInfos:
+        """:meth:`batch` of the infos as they are now, built on first use."""
+        book = _InfoBook(self.n, self._add_info)
+        book.schemas, book.values = list(self.schemas), [list(v) for v in self.values]
+        if self._uniform:
+            book._uniform, book._plan = True, self._plan
+        return LazyInfos(lambda: book.batch(envs))
+
+
     def _fast(self) -> bool:
         if self._uniform is None:
             first = self.schemas[0]
@@ -313,6 +322,128 @@ class _InfoBook:
     def _columns(self) -> dict:
         return self._plan.build(self.values, self.n)
 
+class LazyInfos(dict):
+    """A vector env's batched infos (a ``dict``), built from the workers' messages the
+    first time anything reads them (``SharedMemoryVectorEnv(..., lazy_infos=True)``).
+    Reading, writing, copying or pickling it gives the same as the plain dict would; it
+    is a ``dict`` subclass, so code that asks ``type(infos) is dict`` (Gymnasium's
+    ``data_equivalence``) tells them apart: ``dict(infos)`` is the plain dict."""
+
+    __slots__ = ("_build",)
+
+    def __init__(self, build: Callable[[], dict]):
+        super().__init__()
+        self._build: Callable[[], dict] | None = build
+
+    def _fill(self) -> None:
+        build, self._build = self._build, None
+        if build is not None:
+            dict.update(self, build())
+
+    def __getitem__(self, key: Any) -> Any:
+        self._fill()
+        return dict.__getitem__(self, key)
+
+    def __contains__(self, key: object) -> bool:
+        self._fill()
+        return dict.__contains__(self, key)
+
+    def __iter__(self) -> Iterator[Any]:
+        self._fill()
+        return dict.__iter__(self)
+
+    def __len__(self) -> int:
+        self._fill()
+        return dict.__len__(self)
+
+    def __repr__(self) -> str:
+        self._fill()
+        return dict.__repr__(self)
+
+    def __eq__(self, other: object) -> bool:
+        self._fill()
+        if isinstance(other, LazyInfos):
+            other._fill()
+        return dict.__eq__(self, other)
+
+    __hash__ = None
+
+    def __setitem__(self, key: Any, value: Any) -> None:
+        self._fill()
+        dict.__setitem__(self, key, value)
+
+    def __delitem__(self, key: Any) -> None:
+        self._fill()
+        dict.__delitem__(self, key)
+
+    def __reversed__(self) -> Iterator[Any]:
+        self._fill()
+        return dict.__reversed__(self)
+
+    def __or__(self, other: Any) -> dict:
+        self._fill()
+        return dict(self) | other
+
+    def __ror__(self, other: Any) -> dict:
+        self._fill()
+        return other | dict(self)
+
+    def __ior__(self, other: Any) -> LazyInfos:
+        self._fill()
+        dict.update(self, other)
+        return self
+
+    def __reduce__(self) -> tuple:
+        self._fill()
+        return dict, (dict(self),)
+
+    def __copy__(self) -> dict:
+        self._fill()
+        return dict(self)
+
+    def __deepcopy__(self, memo: dict) -> dict:
+        self._fill()
+        return deepcopy(dict(self), memo)
+
+    def keys(self):
+        self._fill()
+        return dict.keys(self)
+
+    def values(self):
+        self._fill()
+        return dict.values(self)
+
+    def items(self):
+        self._fill()
+        return dict.items(self)
+
+    def get(self, key: Any, default: Any = None) -> Any:
+        self._fill()
+        return dict.get(self, key, default)
+
+    def copy(self) -> dict:
+        self._fill()
+        return dict(self)
+
+    def pop(self, *args: Any) -> Any:
+        self._fill()
+        return dict.pop(self, *args)
+
+    def popitem(self) -> tuple[Any, Any]:
+        self._fill()
+        return dict.popitem(self)
+
+    def setdefault(self, key: Any, default: Any = None) -> Any:
+        self._fill()
+        return dict.setdefault(self, key, default)
+
+    def update(self, *args: Any, **kwargs: Any) -> None:
+        self._fill()
+        dict.update(self, *args, **kwargs)
+
+    def clear(self) -> None:
+        self._build = None
+        dict.clear(self)
 
 class _ColumnPlan:
     """How to batch infos that all have one schema with a few NumPy calls: the leaves of one
@@ -347,7 +478,7 @@ class _ColumnPlan:
             k = len(idx)
             if kind is object:
                 flat = np.fromiter(chain.from_iterable(map(get, values)), dtype=object, count=n * k)
-                blocks.append(list(np.ascontiguousarray(flat.reshape(n, k).T)))
+                blocks.append(list(flat.reshape(n, k).T))
             elif kind is np.ndarray:
                 rows = []
                 for j in idx:
@@ -358,7 +489,7 @@ class _ColumnPlan:
                     rows.append(array)
                 blocks.append(rows)
             else:
-                blocks.append(list(np.ascontiguousarray(np.array(list(map(get, values)), dtype=kind).reshape(n, k).T)))
+                blocks.append(list(np.array(list(map(get, values)), dtype=kind).reshape(n, k).T))
         masks = list(np.ones((len(self.steps), n), dtype=np.bool_))
         made: list[dict] = [{} for _ in range(self.nodes)]
         for node, key, mask_key, m, what in self.steps:
@@ -630,14 +761,18 @@ class SharedMemoryVectorEnv(VectorEnv):
 
     ``copy`` (default True): return copies of the batch's arrays, as ``SyncVectorEnv``
     does; False returns views of the shared memory, which the next ``step`` overwrites.
+    ``lazy_infos`` (default False): return the infos as a :class:`LazyInfos`, built the
+    first time they are read (the same contents; a training loop that does not read them
+    saves building them). Both are the vector env's own keywords, also through
+    ``gym.make_vec(..., copy=False, lazy_infos=True)``; every other keyword is the env's.
     """
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, env_id: str, num_envs: int, *, copy: bool = True, **kwargs: Any):
+    def __init__(self, env_id: str, num_envs: int, *, copy: bool = True, lazy_infos: bool = False, **kwargs: Any):
         if not isinstance(num_envs, int) or isinstance(num_envs, bool) or num_envs < 1:
             raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
-        self.num_envs, self.copy, self.closed = num_envs, copy, False
+        self.num_envs, self.copy, self.lazy_infos, self.closed = num_envs, copy, lazy_infos, False
         self._processes: list[Any] = []
         self._lifeline: multiprocessing.connection.Connection | None = None
         self._conns: list[multiprocessing.connection.Connection] = []
@@ -717,7 +852,7 @@ class SharedMemoryVectorEnv(VectorEnv):
         targets = range(self.num_envs) if envs is None else envs
         self._command({i: _RESET + pickle.dumps((seeds[i], options), _PICKLE) for i in targets}, "reset")
         obs = self._obs.read()
-        return obs, self._infos.batch(envs)
+        return obs, self._infos.lazy(envs) if self.lazy_infos else self._infos.batch(envs)
 
     def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         self._check_usable()
@@ -729,7 +864,7 @@ class SharedMemoryVectorEnv(VectorEnv):
         views = self._views
         obs = self._obs.read()
         return (obs, views.rewards.copy(), views.terminations.copy(), views.truncations.copy(),
-                self._infos.batch())
+                self._infos.lazy() if self.lazy_infos else self._infos.batch())
 
     def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
         """``name`` of each env (``env.get_wrapper_attr``), called with the arguments when callable."""
