@@ -73,7 +73,9 @@ DATA_ONLY = frozenset({
     "ablation-epochs16", "ablation-shift", "ablation-recovery", "ablation-scan", "ablation-aux", "variants-medium",
     "render-fast-vs-stock", "render-without-culling", "step-view-culling", "step-episode-engine",
     "step-frame-savings", "step-own-cost", "generation-fast-paths", "collect-speed-all-ids",
-    "expert-success", "expert-speed", "multiagent-speed", "soak", "table-full-wide",
+    "expert-success", "expert-speed", "multiagent-speed", "soak", "table-full-wide", "ppo-curve",
+    "expert-200-seeds", "table-small", "ppo-random-floor", "expert-scan", "scale-backends", "vlm-tiny-speed",
+    "collect-speed",
 })
 FORMAT_VERSION = 1
 BLOCK = re.compile(r"<!-- figure: (?P<name>[A-Za-z0-9_.-]+) -->\n(?P<body>.*?)<!-- /figure -->", re.S)
