@@ -16,7 +16,7 @@ import psutil
 import pytest
 
 import legent_gym  # noqa: F401
-from legent_gym.envs.factory import HelperDied
+from legent_gym.envs.factory import HelperDied, HouseAssets
 from legent_gym.world.generation import generate_house
 from legent_gym.world.scene import save_scene
 
@@ -82,6 +82,28 @@ def test_helpers_give_the_same_episodes_from_a_houses_folder(tmp_path):
     helped, taken = _run("Legent/GoTo-OneRoom-v0", helpers=1, **kwargs)
     assert taken >= 3
     _assert_same(inline, helped)
+
+
+def _asset_facts(world) -> dict:
+    return {i: (m.asset_id, m.category, m.names, m.bounds().tolist(), [(r.name, r.center, r.height) for r in m.receptacles],
+                m.triangle_count()) for i, m in world.assets.items()}
+
+
+def test_a_house_from_a_helper_has_the_same_asset_models():
+    # Its library models come pickled one by one and are loaded on first use (HouseAssets).
+    facts = []
+    for helpers in (0, 1):
+        env = gym.make("Legent/PutOn-TwoRoom-v0", width=SIZE, height=SIZE, helpers=helpers)
+        try:
+            env.reset(seed=6)
+            env.reset()
+            world = env.unwrapped.episode.world
+            assert isinstance(world.assets, HouseAssets) == bool(helpers)
+            assert env.unwrapped.episode.episodes_from_helpers == helpers
+            facts.append(_asset_facts(world))
+        finally:
+            env.close()
+    assert facts[0] == facts[1] and len(facts[0]) > 10
 
 
 def test_a_moved_generator_is_followed_not_the_prepared_episodes():

@@ -10,8 +10,12 @@ ask for next (generating and compiling the house, drawing spawns and the goal, c
 its feasibility, measuring the distance to it), and shipping each as a
 :class:`PreparedEpisode`: the house (the compiled model as MuJoCo's binary, its state as
 built, its tables and navigation grid) unless the env holds it already, the spawns, the
-goal and the distance fields found on the way. The env's reset then loads that (about a
-millisecond and a half for a new house, far less in a kept one) instead of doing the work.
+goal and the distance fields found on the way. The env's reset then loads that instead of
+doing the work. For a new house that is the model from its binary, a new ``MjData`` set to
+the state as built (kept as that state alone: :class:`~legent_gym.world.state.WorldState`),
+one ``mj_forward``, the renderer's upload of the house's meshes and texture and the first
+frame; the asset library's models are loaded only when something reads them
+(:class:`HouseAssets`).
 
 * The same seeds give the same episodes with or without helpers (``tests/test_factory.py``
   compares observations and infos): a helper runs the same code on the same seed; an
@@ -39,7 +43,6 @@ from __future__ import annotations
 
 import atexit
 import contextlib
-import copy
 import dataclasses
 import os
 import pickle
@@ -52,6 +55,7 @@ import threading
 import traceback
 import weakref
 from collections import deque
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from pathlib import Path
@@ -89,6 +93,58 @@ def _not_loadable() -> tuple[Scene, NavGrid | None]:
     raise RuntimeError("this house came built from an episode helper and cannot be loaded again")
 
 
+class ShippedModel:
+    """An asset library model as a helper pickled it: unpickled on first use, once.
+
+    An episode's tasks read a few of its house's models (names, category, bounds,
+    receptacles of the objects the goal names), most are never read in the env's process;
+    and a model is dozens of small arrays, which cost more to unpickle than the rest of a
+    prepared episode."""
+
+    __slots__ = ("blob", "_model")
+
+    def __init__(self, blob: bytes):
+        self.blob = blob
+        self._model: AssetModel | None = None
+
+    def get(self) -> AssetModel:
+        if self._model is None:
+            self._model = pickle.loads(self.blob)
+            self.blob = b""
+        return self._model
+
+
+class HouseAssets(Mapping[int, AssetModel]):
+    """``World.assets`` of a house a helper built: object id -> asset model, each made
+    on first use (see :class:`ShippedModel`); a model no helper shipped is made by the
+    asset library."""
+
+    def __init__(self, refs: dict[int, tuple[str, int] | None], own: dict[int, AssetModel],
+                 library: dict[tuple[str, int], ShippedModel]):
+        self._refs = refs
+        self._own = own
+        self._library = library
+        self._models: dict[int, AssetModel] = {}
+
+    def __getitem__(self, object_id: int) -> AssetModel:
+        model = self._models.get(object_id)
+        if model is None:
+            ref = self._refs[object_id]
+            if ref is None:
+                model = self._own[object_id]
+            else:
+                shipped = self._library.get(ref)
+                model = shipped.get() if shipped is not None else registry.make(*ref)
+            self._models[object_id] = model
+        return model
+
+    def __iter__(self) -> Iterator[int]:
+        return iter(self._refs)
+
+    def __len__(self) -> int:
+        return len(self._refs)
+
+
 @dataclass
 class HousePayload:
     """A house built by a helper: what the env needs to use it without building it."""
@@ -101,6 +157,7 @@ class HousePayload:
     scene: Scene
     nav: NavGrid
     tables: dict[str, Any]
+    #: The world's state as built (mj_getState of :data:`STATE`).
     state: np.ndarray
     geom_contype: np.ndarray
     geom_conaffinity: np.ndarray
@@ -108,8 +165,9 @@ class HousePayload:
     #: Object id -> (asset id, variant) of the objects whose model is the asset library's
     #: own (None for the others, shipped in ``tables``), in the world's order of ``assets``.
     asset_refs: dict[int, tuple[str, int] | None]
-    #: The library's models of the refs this helper has not shipped before.
-    library: dict[tuple[str, int], AssetModel]
+    #: The library's models of the refs this helper has not shipped before, each pickled
+    #: on its own (see :class:`ShippedModel`).
+    library: dict[tuple[str, int], bytes]
 
     @classmethod
     def of(cls, house: House, model_path: str, shipped: set[tuple[str, int]]) -> HousePayload:
@@ -118,6 +176,7 @@ class HousePayload:
         assert house.binary is not None, "the helper keeps its houses' binaries"
         Path(model_path).write_bytes(house.binary.tobytes())
         world, built = house.world, house.built
+        assert built.data is not None, "a helper's houses are built in its process"
         state = np.empty(mujoco.mj_stateSize(world.model, STATE))
         mujoco.mj_getState(world.model, built.data, state, STATE)
         draw = house.draw
@@ -130,26 +189,29 @@ class HousePayload:
         library = {}
         for i, ref in refs.items():
             if ref is not None and ref not in shipped:
-                library[ref] = world.assets[i]
+                library[ref] = pickle.dumps(world.assets[i], protocol=pickle.HIGHEST_PROTOCOL)
                 shipped.add(ref)
         return cls(draw.key, house.seed, draw.seed, draw.spawns_drawn, draw.repeats, house.scene, house.nav,
                    tables, state, built.geom_contype, built.geom_conaffinity, model_path, refs, library)
 
-    def to_house(self, library: dict[tuple[str, int], AssetModel]) -> House:
+    def to_house(self, library: dict[tuple[str, int], ShippedModel]) -> House:
         """The house, built from the shipped model (as the helper built it); ``library``
-        holds the asset library's models helpers shipped before (it gets these ones)."""
+        holds the asset library's models helpers shipped before (it gets these ones).
+
+        The world's data holds the state as built but not yet what ``mj_forward`` computes
+        from it: the episode that enters the house restores that state and runs
+        ``mj_forward`` (``Episode._enter``); its state as built is kept as that state
+        alone (no second ``MjData``)."""
         model = mujoco.MjModel.from_binary_path(self.model_path)
         data = mujoco.MjData(model)
         mujoco.mj_setState(model, data, self.state, STATE)
         model.geom_contype[:] = self.geom_contype
         model.geom_conaffinity[:] = self.geom_conaffinity
-        mujoco.mj_forward(model, data)
-        library.update(self.library)
-        shipped = self.tables["assets"]
-        assets = {i: shipped[i] if ref is None else library.get(ref) or registry.make(*ref)
-                  for i, ref in self.asset_refs.items()}
+        for ref, blob in self.library.items():
+            library[ref] = ShippedModel(blob)
+        assets = HouseAssets(self.asset_refs, self.tables["assets"], library)
         world = World(model=model, data=data, **{**self.tables, "assets": assets})
-        built = WorldState(copy.copy(data), self.geom_contype.copy(), self.geom_conaffinity.copy())
+        built = WorldState(None, self.geom_contype, self.geom_conaffinity, integration=self.state)
         draw = HouseDraw(self.key, self.draw_seed, _not_loadable, spawns_drawn=self.spawns_drawn,
                          repeats=self.repeats)
         return House(draw, self.scene, world, self.nav, built, self.seed)
@@ -286,7 +348,7 @@ class EpisodeFactory:
         #: Errors helpers reported (the episode was then played in the env's process).
         self.errors: list[str] = []
         #: The asset library's models helpers shipped, by (asset id, variant).
-        self.library: dict[tuple[str, int], AssetModel] = {}
+        self.library: dict[tuple[str, int], ShippedModel] = {}
 
     @property
     def pids(self) -> list[int]:
