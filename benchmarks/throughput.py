@@ -37,6 +37,9 @@ observations, one core. Rows (``--only`` names):
 * ``svec1``, ``svec2``, ``svec8`` (any ``svecN``, and ``-eph8``, ``-helpers``): the same
   with ``vectorization_mode="vector_entry_point"`` (``legent_gym/envs/shared_vector.py``:
   shared-memory batch, next-step autoreset, whose reset steps are not counted as steps);
+  ``svecN-lazy``: with ``lazy_infos=True`` (infos built only when read: the loop does not
+  read them); ``svecN-pool``: its ``send``/``recv``, ``batch_size=N/2``, the next actions
+  sent to the envs each ``recv`` returns;
 * ``collect``: ``legent-gym collect Legent/ComeHere-OneRoom-v0 --episodes 100 --out DIR
   --workers 1`` (its Python function, one core, default formats): successful expert
   trajectories per second, the whole call timed (a fresh DIR each round).
@@ -153,8 +156,15 @@ def vector_config(name: str) -> dict:
         label += ", helpers=H"
     if name.startswith("svec"):
         label = label.replace(", async,", ", vector_entry_point,")
-        return {"kind": "vector", "mode": "vector_entry_point", "label": label, "env_id": LEGENT_IDS["OneRoom"],
-                "num_envs": n, "kwargs": kwargs}
+        if "lazy" in parts:
+            kwargs["lazy_infos"] = True
+            label += ", lazy_infos"
+        config = {"kind": "vector", "mode": "vector_entry_point", "label": label, "env_id": LEGENT_IDS["OneRoom"],
+                  "num_envs": n, "kwargs": kwargs}
+        if "pool" in parts:  # send/recv, half the envs a batch
+            config["batch_size"] = max(1, n // 2)
+            config["label"] += f", send/recv batch_size={config['batch_size']}"
+        return config
     return {"kind": "vector", "label": label, "env_id": LEGENT_IDS["OneRoom"], "num_envs": n, "kwargs": kwargs}
 
 
@@ -269,6 +279,33 @@ class _VecLoop:
                 "episodes": ends, "terminated": None}
 
 
+class _PoolLoop(_VecLoop):
+    """The vector entry point's send/recv: step the first ``batch_size`` envs done."""
+
+    def __init__(self, vec, actions, seed: int):
+        self.vec, self.actions, self.i, self.n = vec, actions, 0, vec.num_envs
+        self.resetting: set[int] = set()
+        vec.async_reset(seed=seed)
+
+    def run(self, steps: int) -> dict:
+        vec, actions, n = self.vec, self.actions, len(self.actions)
+        done = ends = 0
+        wall0, cpu0, tree0 = time.perf_counter(), time.process_time(), tree_cpu()
+        while done < steps:
+            _, _, terminated, truncated, info = vec.recv()
+            ids = info["env_id"]
+            # A reply to an env's reset (sent after its episode ended) is not a step.
+            done += sum(1 for i in ids if int(i) not in self.resetting)
+            ended = terminated | truncated
+            ends += int(ended.sum())
+            self.resetting = {int(i) for i, e in zip(ids, ended) if e} | (self.resetting - {int(i) for i in ids})
+            vec.send(tuple(actions[(self.i + j) % n] for j in range(len(ids))), env_ids=ids)
+            self.i += len(ids)
+        return {"steps": done, "wall": time.perf_counter() - wall0, "cpu": None,
+                "parent_cpu": time.process_time() - cpu0, "tree_cpu": tree_cpu() - tree0, "reset_ms": [],
+                "episodes": ends, "terminated": None}
+
+
 class _CollectLoop:
     def __init__(self, env_id: str, episodes: int, scratch: Path, env_kwargs: dict):
         from legent_gym.data.collect import CollectConfig, collect
@@ -343,13 +380,14 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
 
         if config.get("mode") == "vector_entry_point":
             vec = gym.make_vec(config["env_id"], num_envs=config["num_envs"], vectorization_mode="vector_entry_point",
-                               width=args.size, height=args.size, **config["kwargs"])
+                               width=args.size, height=args.size, **config["kwargs"],
+                               **({"batch_size": config["batch_size"]} if "batch_size" in config else {}))
         else:
             vec = gym.make_vec(config["env_id"], num_envs=config["num_envs"], vectorization_mode="async",
                                vector_kwargs={"context": "forkserver",
                                               "autoreset_mode": gym.vector.AutoresetMode.SAME_STEP},
                                width=args.size, height=args.size, **config["kwargs"])
-        loop = _VecLoop(vec, legent_actions(4096, seed), seed)
+        loop = (_PoolLoop if "batch_size" in config else _VecLoop)(vec, legent_actions(4096, seed), seed)
         facts["cores"] = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
     elif kind == "collect":
         import legent_gym  # noqa: F401

@@ -191,6 +191,55 @@ def test_lazy_infos_hold_the_same_as_sync_when_read_later():
         sync.close()
 
 
+def _row(data, k: int):
+    """Env ``k``'s part of batched data (observations or infos; masks dropped)."""
+    if isinstance(data, dict):
+        return {key: _row(value, k) for key, value in data.items() if not key.startswith("_")}
+    return data[k]
+
+
+def test_send_recv_returns_each_envs_own_episode():
+    """EnvPool-style: 3 envs, recv() returns the first 2 done, send() steps those; each
+    env's observations, rewards, ends and infos, in whatever batches they came, are its
+    own run of a one-env sync vector env with its seed, across autoresets."""
+    steps = {i: [ACTIONS[t][i] for t in range(len(ACTIONS))] for i in range(3)}
+    envs = SharedMemoryVectorEnv(ENV_ID, 3, batch_size=2, max_episode_steps=3, **SMALL)
+    got: dict[int, list] = {i: [] for i in range(3)}
+    try:
+        with pytest.raises(RuntimeError, match="nothing sent"):
+            envs.recv()
+        envs.async_reset(seed=7)
+        with pytest.raises(RuntimeError, match="recv\\(\\) it before step"):
+            envs.step(("finish()",) * 3)
+        while any(len(run) <= len(steps[i]) for i, run in got.items()):
+            obs, reward, terminated, truncated, info = envs.recv()
+            ids = list(info["env_id"])
+            assert 1 <= len(ids) <= 2 and reward.shape == (len(ids),) and len(obs["instruction"]) == len(ids)
+            for k, i in enumerate(ids):
+                got[i].append((_row(obs, k), reward[k], terminated[k], truncated[k], _row(info, k)))
+            todo = [i for i in ids if len(got[i]) <= len(steps[i])]
+            if todo:
+                envs.send(tuple(steps[i][len(got[i]) - 1] for i in todo), env_ids=todo)
+        with pytest.raises(ValueError, match="1 actions for 2 env ids"):
+            envs.send(("finish()",), env_ids=[0, 1])
+    finally:
+        envs.close()
+    for i in range(3):
+        one = gym.make_vec(ENV_ID, num_envs=1, vectorization_mode="sync", max_episode_steps=3, **SMALL)
+        try:
+            obs, info = one.reset(seed=7 + i)
+            want = [(_row(obs, 0), np.float64(0.0), np.False_, np.False_, {**_row(info, 0), "env_id": np.int64(i)})]
+            for action in steps[i]:
+                obs, reward, terminated, truncated, info = one.step((action,))
+                want.append((_row(obs, 0), reward[0], terminated[0], truncated[0],
+                             {**_row(info, 0), "env_id": np.int64(i)}))
+        finally:
+            one.close()
+        assert any(w[2] or w[3] for w in want[1:-1]), "an autoreset happened"
+        for t, (a, b) in enumerate(zip(got[i], want, strict=True)):
+            assert data_equivalence(a, b), f"env {i} step {t}: {a} != {b}"
+
+
 def test_a_workers_error_names_it_with_its_traceback():
     envs = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", strict=True, **SMALL)
     pids, names = worker_pids(envs), _ours(envs)

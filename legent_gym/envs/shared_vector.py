@@ -34,6 +34,8 @@ worker process and costs the calling process little per env-step:
 * the autoreset happens in the worker;
 * an exception in a worker's env is raised here as :class:`WorkerError`, naming the worker
   and carrying its traceback; a worker that dies raises it too, with its exit code;
+* :meth:`SharedMemoryVectorEnv.send` / :meth:`~SharedMemoryVectorEnv.recv` (with
+  ``batch_size``) step EnvPool's way: ``recv()`` returns the first envs done;
 * ``close()`` ends the workers and frees the shared memory (an unlinked file: nothing is
   left in ``/dev/shm`` even if this process is killed); workers also end by themselves
   when this process goes.
@@ -202,6 +204,12 @@ class _ObsReader:
         it = iter(values)
         return _assemble(self.space, it)
 
+    def read_rows(self, rows: np.ndarray) -> Any:
+        """The observations of the envs ``rows`` (copies), in that order."""
+        values = [tuple(view[rows].tolist()) if leaf.kind == "text" else view[rows]
+                  for leaf, view in zip(self.layout.obs, self.views.obs)]
+        return _assemble(self.space, iter(values))
+
 
 def _assemble(space: spaces.Space, values: Iterator[Any]) -> Any:
     if isinstance(space, spaces.Dict):
@@ -277,6 +285,7 @@ class _InfoBook:
         self._interned: dict[tuple, tuple] = {}
         # Whether every env's schema is the same one, of plain leaves (the fast path).
         self._uniform: bool | None = None
+        self._plans: dict[tuple, _ColumnPlan] = {}
 
     def update(self, i: int, payload: bytes | memoryview) -> None:
         if not payload:
@@ -321,6 +330,31 @@ class _InfoBook:
 
     def _columns(self) -> dict:
         return self._plan.build(self.values, self.n)
+
+    def compact(self, envs: Sequence[int]) -> dict:
+        """The infos of ``envs`` batched as a vector env of ``len(envs)`` envs would give
+        them, in that order (what :meth:`SharedMemoryVectorEnv.recv` returns)."""
+        schema = self.schemas[envs[0]]
+        if all(self.schemas[i] is schema for i in envs) and not any(
+                t is dict or path == ("final_obs",) for path, t in schema):
+            plan = self._plans.get(schema)
+            if plan is None:
+                plan = self._plans[schema] = _ColumnPlan(schema)
+            return plan.build([self.values[i] for i in envs], len(envs))
+        sized = _Sized(len(envs))
+        infos: dict = {}
+        for k, i in enumerate(envs):
+            infos = sized._add_info(infos, _unflatten(self.schemas[i], self.values[i]), k)  # type: ignore[misc]
+        return infos
+
+
+class _Sized:
+    """Gymnasium's ``_add_info`` for a batch of ``num_envs`` envs."""
+
+    _add_info = VectorEnv._add_info
+
+    def __init__(self, num_envs: int):
+        self.num_envs = num_envs
 
 class LazyInfos(dict):
     """A vector env's batched infos (a ``dict``), built from the workers' messages the
@@ -530,10 +564,13 @@ class _Channel:
         self.go = [ctx.Semaphore(0) for _ in range(n)]
         self.lock = ctx.Lock()
         self.all_in = ctx.Semaphore(0)
-        self.counts = ctx.RawArray("i", 2)  # replies in, replies awaited
+        # Replies produced, replies consumed, replies awaited, whether this process sleeps on
+        # all_in; then a ring of the workers' numbers in the order their replies came.
+        self.counts = ctx.RawArray("i", 4 + n)
         self.headers = ctx.RawArray("q", _HEADER * n)
         self.slots = ctx.RawArray("B", n * (command_size + reply_size))
         self.batch = 0  # in this process: the number of the last batch sent
+        self._relaying = False  # in this process: whether every idle worker passes wake-ups on
         self._views: tuple[memoryview, memoryview, memoryview] | None = None
 
     def __getstate__(self) -> dict:
@@ -583,16 +620,49 @@ class _Channel:
         return memory[at:at + headers[header]].tobytes()
 
     # In this process.
-    def send(self, messages: dict[int, bytes], conns: Sequence[Any]) -> None:
-        """Give each listed worker its command and wake the workers."""
-        counts, headers = self.views[2], self.views[1]
-        counts[0], counts[1] = 0, len(messages)
+    def send(self, messages: dict[int, bytes], conns: Sequence[Any], relay: bool = True) -> None:
+        """Give each listed worker its command and wake them: ``relay`` (every worker idle)
+        by waking worker 0, whose wake-up passes down the tree; else each one directly."""
+        headers = self.views[1]
         self.batch += 1
         stride = self.command_size + self.reply_size
+        if relay and not self._relaying:
+            for i in range(self.n):
+                headers[_HEADER * i + 5] = 1
+        self._relaying = relay
         for i, message in messages.items():
             self._put(i * stride, _HEADER * i, message, self.command_size, conns[i])
             headers[_HEADER * i + 2] = self.batch
-        self.go[0].release()
+            if not relay:
+                headers[_HEADER * i + 5] = 0
+        if relay:
+            self.go[0].release()
+        else:
+            for i in messages:
+                self.go[i].release()
+
+    def wait(self, need: int, timeout: float) -> list[int] | None:
+        """The workers whose replies came, in that order, once ``need`` have come that this
+        process has not taken; None if they have not within ``timeout`` seconds."""
+        counts = self.views[2]
+        deadline = time.monotonic() + timeout
+        while True:
+            with self.lock:
+                ready = counts[0] - counts[1] >= need
+                if not ready:
+                    counts[2], counts[3] = need, 1
+            if ready:
+                return self.pop(need)
+            if not self.all_in.acquire(timeout=max(0.0, deadline - time.monotonic())):
+                return None
+
+    def pop(self, need: int) -> list[int]:
+        """The next ``need`` replies' workers (they have come)."""
+        counts, n = self.views[2], self.n
+        first = counts[1]
+        ids = [counts[4 + (first + k) % n] for k in range(need)]
+        counts[1] = first + need
+        return ids
 
     def wake(self, i: int) -> None:
         """Wake worker ``i`` again (its parent in the tree died before passing the wake-up on)."""
@@ -603,7 +673,9 @@ class _Channel:
         return self._get(i * stride + self.command_size, _HEADER * i + 3, conn)
 
     def replies_in(self) -> int:
-        return self.views[2][0]
+        """Replies that have come and were not taken."""
+        counts = self.views[2]
+        return counts[0] - counts[1]
 
     # In a worker.
     def take(self, i: int, conn: Any, lifeline: Any, last: list[int]) -> bytes | None:
@@ -617,8 +689,9 @@ class _Channel:
                 if lifeline.poll(0):
                     return None
                 continue
-            for child in children:
-                self.go[child].release()
+            if headers[_HEADER * i + 5]:
+                for child in children:
+                    self.go[child].release()
             batch = headers[_HEADER * i + 2]
             if batch != last[0]:
                 last[0] = batch
@@ -629,15 +702,18 @@ class _Channel:
                   self.reply_size, conn)
         counts = self.views[2]
         with self.lock:
+            counts[4 + counts[0] % self.n] = i
             counts[0] += 1
-            done = counts[0] == counts[1]
+            done = counts[3] and counts[0] - counts[1] >= counts[2]
+            if done:
+                counts[3] = 0
         if done:
             self.all_in.release()
 
 
 #: Integers of a worker's header: command length, command in the pipe, command's batch,
-#: reply length, reply in the pipe.
-_HEADER = 5
+#: reply length, reply in the pipe, whether the worker passes its wake-up on.
+_HEADER = 6
 
 
 def _worker(index: int, env_id: str, kwargs: dict, conn: multiprocessing.connection.Connection, buffer: Any,
@@ -763,15 +839,25 @@ class SharedMemoryVectorEnv(VectorEnv):
     does; False returns views of the shared memory, which the next ``step`` overwrites.
     ``lazy_infos`` (default False): return the infos as a :class:`LazyInfos`, built the
     first time they are read (the same contents; a training loop that does not read them
-    saves building them). Both are the vector env's own keywords, also through
-    ``gym.make_vec(..., copy=False, lazy_infos=True)``; every other keyword is the env's.
+    saves building them). ``batch_size`` (default ``num_envs``): how many envs
+    :meth:`recv` returns (EnvPool-style stepping: :meth:`async_reset`, then :meth:`recv`
+    and :meth:`send` in turn, so that an env that resets holds no batch back; ``step`` and
+    ``reset`` wait for every env as usual). All three are the vector env's own keywords,
+    also through ``gym.make_vec(..., copy=False, lazy_infos=True, batch_size=4)``; every
+    other keyword is the env's.
     """
 
     metadata = {"autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, env_id: str, num_envs: int, *, copy: bool = True, lazy_infos: bool = False, **kwargs: Any):
+    def __init__(self, env_id: str, num_envs: int, *, copy: bool = True, lazy_infos: bool = False,
+                 batch_size: int | None = None, **kwargs: Any):
         if not isinstance(num_envs, int) or isinstance(num_envs, bool) or num_envs < 1:
             raise ValueError(f"num_envs must be a positive integer, got {num_envs!r}")
+        if batch_size is not None and not 1 <= batch_size <= num_envs:
+            raise ValueError(f"batch_size must be between 1 and num_envs={num_envs}, got {batch_size!r}")
+        #: How many envs :meth:`recv` returns at a time.
+        self.batch_size = num_envs if batch_size is None else int(batch_size)
+        self._in_flight: set[int] = set()
         self.num_envs, self.copy, self.lazy_infos, self.closed = num_envs, copy, lazy_infos, False
         self._processes: list[Any] = []
         self._lifeline: multiprocessing.connection.Connection | None = None
@@ -801,8 +887,6 @@ class SharedMemoryVectorEnv(VectorEnv):
         self._obs = _ObsReader(self._layout, self._views, copy)
         self._infos = _InfoBook(num_envs, self._add_info)
         self._channel = _Channel(ctx, num_envs)
-        counts = self._channel.views[2]
-        counts[0], counts[1] = 0, num_envs
         # The workers' sign that this process is gone (even unreaped): its end closes.
         lifeline, self._lifeline = ctx.Pipe(duplex=False)
         try:
@@ -826,16 +910,8 @@ class SharedMemoryVectorEnv(VectorEnv):
     # -- Gymnasium API ------------------------------------------------------------------------
     def reset(self, *, seed: int | Sequence[int | None] | None = None,
               options: dict[str, Any] | None = None) -> tuple[Any, dict[str, Any]]:
-        self._check_usable()
-        if seed is None:
-            seeds: list = [None] * self.num_envs
-        elif isinstance(seed, int):
-            seeds = [seed + i for i in range(self.num_envs)]
-        else:
-            seeds = list(seed)
-        if len(seeds) != self.num_envs:
-            raise ValueError(f"If seeds are passed as a list the length must match num_envs={self.num_envs} "
-                             f"but got length={len(seeds)}.")
+        self._check_usable(idle=True)
+        seeds = self._seeds(seed)
         envs: list[int] | None = None
         if options is not None and "reset_mask" in options:
             mask = options.pop("reset_mask")
@@ -855,7 +931,7 @@ class SharedMemoryVectorEnv(VectorEnv):
         return obs, self._infos.lazy(envs) if self.lazy_infos else self._infos.batch(envs)
 
     def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
-        self._check_usable()
+        self._check_usable(idle=True)
         dumps = pickle.dumps
         messages = [_STEP + dumps(action, _PICKLE) for action in iterate(self.action_space, actions)]
         if len(messages) != self.num_envs:
@@ -866,9 +942,74 @@ class SharedMemoryVectorEnv(VectorEnv):
         return (obs, views.rewards.copy(), views.terminations.copy(), views.truncations.copy(),
                 self._infos.lazy() if self.lazy_infos else self._infos.batch())
 
+    # -- EnvPool-style asynchronous stepping ----------------------------------------------------
+    def async_reset(self, *, seed: int | Sequence[int | None] | None = None,
+                    options: dict[str, Any] | None = None) -> None:
+        """Reset every env (``seed`` as :meth:`reset` takes it) without waiting: the reset
+        observations come from :meth:`recv`, ``batch_size`` at a time."""
+        self._check_usable()
+        seeds = self._seeds(seed)
+        self._send_async({i: _RESET + pickle.dumps((seeds[i], options), _PICKLE) for i in range(self.num_envs)})
+
+    def send(self, actions: Any, env_ids: Sequence[int] | np.ndarray | None = None) -> None:
+        """Step the envs ``env_ids`` (all when None; each must have been received since it
+        was last sent) with ``actions`` (one per env id, batched as for :meth:`step`)
+        without waiting. With the next-step autoreset, the action sent to an env whose
+        episode ended resets it."""
+        self._check_usable()
+        ids = list(range(self.num_envs)) if env_ids is None else [int(i) for i in np.asarray(env_ids).ravel()]
+        messages = [_STEP + pickle.dumps(action, _PICKLE) for action in iterate(self.action_space, actions)]
+        if len(messages) != len(ids):
+            raise ValueError(f"{len(messages)} actions for {len(ids)} env ids")
+        self._send_async(dict(zip(ids, messages, strict=True)))
+
+    def recv(self) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
+        """The first ``batch_size`` envs to finish what was sent to them (fewer if fewer are
+        out): observations, rewards, terminations, truncations and infos batched over them
+        in the order they finished, their indices in ``infos["env_id"]``. An env that resets
+        does not hold the others back."""
+        self._check_usable()
+        need = min(self.batch_size, len(self._in_flight))
+        if need == 0:
+            raise RuntimeError("recv() with nothing sent: call send() or async_reset() first")
+        channel = self._channel
+        while (ids := channel.wait(need, POLL_SECONDS)) is None:
+            dead = [i for i in self._in_flight if not self._processes[i].is_alive()]
+            if dead:
+                self._broken = self._died(dead[0], "stepping")
+                raise WorkerError(self._broken, dead[0])
+        self._in_flight.difference_update(ids)
+        self._read(ids, "step")
+        rows = np.array(ids)
+        views = self._views
+        infos = self._infos.compact(ids)
+        infos["env_id"] = rows
+        return (self._obs.read_rows(rows), views.rewards[rows], views.terminations[rows], views.truncations[rows],
+                infos)
+
+    def _send_async(self, messages: dict[int, bytes]) -> None:
+        busy = sorted(self._in_flight.intersection(messages))
+        if busy:
+            raise ValueError(f"envs {busy} were sent work that recv() has not returned yet")
+        # Every worker idle: the wake-up may pass down the tree; else each is woken itself.
+        self._channel.send(messages, self._conns, relay=not self._in_flight)
+        self._in_flight.update(messages)
+
+    def _seeds(self, seed: int | Sequence[int | None] | None) -> list[int | None]:
+        if seed is None:
+            seeds: list[int | None] = [None] * self.num_envs
+        elif isinstance(seed, int):
+            seeds = [seed + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+        if len(seeds) != self.num_envs:
+            raise ValueError(f"If seeds are passed as a list the length must match num_envs={self.num_envs} "
+                             f"but got length={len(seeds)}.")
+        return seeds
+
     def call(self, name: str, *args: Any, **kwargs: Any) -> tuple[Any, ...]:
         """``name`` of each env (``env.get_wrapper_attr``), called with the arguments when callable."""
-        self._check_usable()
+        self._check_usable(idle=True)
         if name in ("reset", "step", "close", "set_attr"):
             raise ValueError(f"Trying to call function `{name}` with `call`, use `{name}` directly instead.")
         message = _CALL + pickle.dumps((name, args, kwargs), _PICKLE)
@@ -878,7 +1019,7 @@ class SharedMemoryVectorEnv(VectorEnv):
         return self.call(name)
 
     def set_attr(self, name: str, values: list[Any] | tuple[Any, ...] | Any) -> None:
-        self._check_usable()
+        self._check_usable(idle=True)
         if not isinstance(values, list | tuple):
             values = [values] * self.num_envs
         if len(values) != self.num_envs:
@@ -895,7 +1036,7 @@ class SharedMemoryVectorEnv(VectorEnv):
         channel = getattr(self, "_channel", None)
         if not terminate and channel is not None:
             with contextlib.suppress(OSError):
-                channel.send(dict.fromkeys(range(len(self._processes)), _CLOSE), self._conns)
+                channel.send(dict.fromkeys(range(len(self._processes)), _CLOSE), self._conns, relay=False)
             for i, process in enumerate(self._processes):  # a dead worker passes no wake-up on
                 if not process.is_alive():
                     for child in (2 * i + 1, 2 * i + 2):
@@ -924,11 +1065,14 @@ class SharedMemoryVectorEnv(VectorEnv):
                 self.close(terminate=True)
 
     # -- talking to the workers -----------------------------------------------------------------
-    def _check_usable(self) -> None:
+    def _check_usable(self, idle: bool = False) -> None:
         if self.closed:
             raise RuntimeError("this SharedMemoryVectorEnv is closed")
         if self._broken is not None:
             raise RuntimeError(f"this SharedMemoryVectorEnv cannot go on after a worker's error: {self._broken}")
+        if idle and self._in_flight:
+            raise RuntimeError(f"envs {sorted(self._in_flight)} were sent work with send() or async_reset(): "
+                               "recv() it before step(), reset(), call() or set_attr()")
 
     def _died(self, i: int, doing: str, err: BaseException | None = None) -> str:
         process = self._processes[i]
@@ -948,12 +1092,13 @@ class SharedMemoryVectorEnv(VectorEnv):
             raise WorkerError(self._broken, i) from err
         return self._receive(messages, doing)
 
-    def _wait_all_in(self, envs: Iterable[int]) -> None:
-        """Sleep until the worker whose reply completes the count says so; a worker that
-        died never will: then return once every live worker has replied."""
+    def _wait_all_in(self, envs: Iterable[int]) -> list[int]:
+        """Sleep until the replies of ``envs`` have come (woken once, by the worker whose reply
+        completes them); the workers, in the order their replies came. A worker that died
+        never replies: then wait for the live ones' replies."""
         envs = list(envs)
         channel = self._channel
-        while not channel.all_in.acquire(timeout=POLL_SECONDS):
+        while (ids := channel.wait(len(envs), POLL_SECONDS)) is None:
             dead = [i for i in range(self.num_envs) if not self._processes[i].is_alive()]
             if dead:
                 # The dead do not pass the wake-up on: wake the others (one woken twice
@@ -965,12 +1110,17 @@ class SharedMemoryVectorEnv(VectorEnv):
                     time.sleep(0.01)
                     dead = [i for i in range(self.num_envs) if not self._processes[i].is_alive()]
                 self._dead = set(dead)
-                return
+                return channel.pop(channel.replies_in())
+        return ids
 
     def _receive(self, envs: Iterable[int], doing: str) -> list[Any]:
         """Every listed worker's reply (an info message or a value); raises the first error
         once all have answered, so that the pipes stay in step."""
         self._wait_all_in(envs)
+        return self._read(envs, doing)
+
+    def _read(self, envs: Iterable[int], doing: str) -> list[Any]:
+        """The replies of ``envs``, which have come."""
         values: list[Any] = []
         errors: list[tuple[int, str]] = []
         infos = self._infos
