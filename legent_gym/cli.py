@@ -22,12 +22,30 @@ traceback instead.
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 import warnings
 from pathlib import Path
 
+import cv2
+from tqdm import tqdm
+
+from legent_gym.data.collect import CollectConfig, CollectError, collect, describe
 from legent_gym.errors import UserError
-from legent_gym.utils import gl_backend  # noqa: F401
+from legent_gym.llm.annotation import annotate_command, register_annotation_files
+from legent_gym.llm.scene_from_text import generate_scene
+from legent_gym.llm.task_generation import generate_tasks
+from legent_gym.play.command import add_arguments as add_play_arguments
+from legent_gym.play.command import run as run_play
+from legent_gym.utils.atomic import atomic_write_bytes
+from legent_gym.world.assets import registry
+from legent_gym.world.assets.gltf import AssetImportError, load_gltf
+from legent_gym.world.builder import SceneBuildError, build_world
+from legent_gym.world.generation import GenerationError, generate_house
+from legent_gym.world.preview import render_asset_preview
+from legent_gym.world.render import Renderer
+from legent_gym.world.scene import ImportedAsset, SceneError, load_scene, save_scene
+from legent_gym.world.topdown_map import save_topdown_map
 
 #: The largest image side ``--size`` may ask for (MuJoCo's offscreen buffer is that big).
 MAX_IMAGE_SIZE = 8192
@@ -51,10 +69,6 @@ def _check_output(path: str) -> None:
 
 
 def _write_png(path: str, image) -> None:
-    import cv2
-
-    from legent_gym.utils.atomic import atomic_write_bytes
-
     ok, data = cv2.imencode(".png", image[..., ::-1])
     if not ok:
         raise UserError(f"could not encode PNG for {path}")
@@ -63,18 +77,12 @@ def _write_png(path: str, image) -> None:
 
 
 def cmd_validate(args) -> int:
-    from legent_gym.world.scene import load_scene
-
     scene = load_scene(args.scene)
     print(f"{args.scene}: valid ({len(scene.rooms)} rooms, {len(scene.objects)} objects, {len(scene.doors)} doors)")
     return 0
 
 
 def cmd_render(args) -> int:
-    from legent_gym.world.builder import build_world
-    from legent_gym.world.render import Renderer
-    from legent_gym.world.scene import load_scene
-
     _check_size(args.size)
     _check_output(args.out)
     scene = load_scene(args.scene)
@@ -87,8 +95,6 @@ def cmd_render(args) -> int:
 
 
 def cmd_asset_list(args) -> int:
-    from legent_gym.world.assets import registry
-
     for asset_id in registry.asset_ids():
         model = registry.describe(asset_id)
         size = " x ".join(f"{v:.2f}" for v in model.size)
@@ -98,23 +104,16 @@ def cmd_asset_list(args) -> int:
 
 
 def cmd_asset_preview(args) -> int:
-    from legent_gym.world.preview import render_asset_preview
-
     _check_size(args.size)
     _check_output(args.out)
     if args.variant < 0:
         raise UserError(f"--variant must be >= 0, got {args.variant}")
     source = Path(args.asset)
     if source.suffix.lower() in (".glb", ".gltf"):
-        from legent_gym.world.assets.gltf import load_gltf
-        from legent_gym.world.scene import ImportedAsset
-
         load_gltf(source, up_axis=args.up_axis)  # fail early, with the importer's message
         imported = ImportedAsset(id="preview_asset", source=str(source.resolve()), up_axis=args.up_axis)
         image = render_asset_preview("preview_asset", size=args.size, profile=args.profile, imported=imported)
     else:
-        from legent_gym.world.assets import registry
-
         if not registry.has(args.asset):
             raise UserError(f"{args.asset!r} is neither a .glb/.gltf file nor a built-in asset id "
                             "(see `legent-gym asset list`)")
@@ -124,26 +123,17 @@ def cmd_asset_preview(args) -> int:
 
 
 def cmd_asset_annotate(args) -> int:
-    from legent_gym.llm.annotation import annotate_command
-
     if args.out:
         _check_output(args.out)
     return annotate_command(args, UserError)
 
 
 def cmd_generate(args) -> int:
-    from legent_gym.world.generation import generate_house
-    from legent_gym.world.scene import save_scene
-
     if not 0 <= args.seed <= MAX_SEED:
         raise UserError(f"--seed must be between 0 and {MAX_SEED}, got {args.seed}")
     if args.asset:
-        from legent_gym.llm.annotation import register_annotation_files
-
         register_annotation_files(args.asset, UserError)
     if args.plan is not None or args.prompt is not None:
-        from legent_gym.llm.scene_from_text import generate_scene
-
         for path in (args.out, args.map):
             if path:
                 _check_output(path)
@@ -162,15 +152,11 @@ def cmd_generate(args) -> int:
         save_scene(scene, args.out)
         print(f"wrote {args.out} ({len(scene.rooms)} rooms, {len(scene.objects)} objects)")
         if args.map:
-            from legent_gym.world.topdown_map import save_topdown_map
-
             save_topdown_map(scene, args.map)
             print(f"wrote {args.map}")
         return 0
     if args.out_dir is None:
         raise UserError("a batch (--count > 1) needs --out-dir DIR")
-    from tqdm import tqdm
-
     out_dir = Path(args.out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     for seed in tqdm(range(args.seed, args.seed + args.count), desc="houses", unit="house"):
@@ -183,9 +169,6 @@ def cmd_generate(args) -> int:
 
 
 def cmd_tasks_generate(args) -> int:
-    from legent_gym.llm.annotation import register_annotation_files
-    from legent_gym.llm.task_generation import generate_tasks
-
     _check_output(args.out)
     register_annotation_files(args.asset, UserError)
     return generate_tasks(args, UserError)
@@ -198,8 +181,6 @@ MAX_SEED = 2**63 - 1
 def parse_env_kwargs(text: str | None) -> dict:
     """``--env-kwargs``: further ``gym.make`` arguments as a JSON object (``{}`` for none),
     or a :class:`UserError` that says what is wrong with the text."""
-    import json
-
     if not text:
         return {}
     try:
@@ -212,8 +193,6 @@ def parse_env_kwargs(text: str | None) -> dict:
 
 
 def cmd_collect(args) -> int:
-    from legent_gym.data.collect import CollectConfig, collect, describe
-
     env_kwargs = parse_env_kwargs(args.env_kwargs)
     for key, value in (("width", args.width), ("height", args.height), ("action_type", args.action_type),
                        ("max_episode_steps", args.max_steps), ("frames_per_step", args.frames_per_step)):
@@ -229,9 +208,7 @@ def cmd_collect(args) -> int:
 
 
 def cmd_play(args) -> int:
-    from legent_gym.play.command import run
-
-    return run(args)
+    return run_play(args)
 
 
 def add_llm_arguments(parser: argparse.ArgumentParser) -> None:
@@ -341,8 +318,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_collect)
 
-    from legent_gym.play.command import add_arguments as add_play_arguments
-
     p = sub.add_parser("play", parents=[common], help="play ENV_ID in the browser, as the user or the agent",
                        description="Serve a page where a person plays ENV_ID as the user (a partner policy "
                                    "drives the agent) or as the agent. See docs/play.md.")
@@ -365,33 +340,13 @@ def _one_line(text: str) -> str:
     return "; ".join(line.strip() for line in text.splitlines() if line.strip()) or "(no message)"
 
 
-def _user_errors() -> tuple[type[BaseException], ...]:
-    """The error types that say what is wrong with the user's input, in their own words."""
-    from legent_gym.world.assets.gltf import AssetImportError
-    from legent_gym.world.builder import SceneBuildError
-    from legent_gym.world.scene import SceneError
-
-    errors: tuple[type[BaseException], ...] = (UserError, SceneError, AssetImportError, SceneBuildError)
-    try:
-        from legent_gym.world.generation import GenerationError
-
-        errors += (GenerationError,)
-    except ImportError:
-        pass
-    try:
-        from legent_gym.data.collect import CollectError
-
-        errors += (CollectError,)
-    except ImportError:
-        pass
-    return errors
+#: The error types that say what is wrong with the user's input, in their own words.
+USER_ERRORS: tuple[type[BaseException], ...] = (UserError, SceneError, AssetImportError, SceneBuildError,
+                                                GenerationError, CollectError)
 
 
 def error_message(err: BaseException, args) -> str:
     """One line that names the file and says what is wrong with it."""
-    from legent_gym.world.builder import SceneBuildError
-    from legent_gym.world.scene import SceneError
-
     where = _input_of(args)
     if isinstance(err, SceneError):
         text = _one_line(err.summary())
@@ -401,7 +356,7 @@ def error_message(err: BaseException, args) -> str:
         return _one_line(f"{err.filename2 or err.filename}: {err.strerror or err}")
     if isinstance(err, SceneBuildError):
         text = str(err)
-    elif isinstance(err, _user_errors()):
+    elif isinstance(err, USER_ERRORS):
         return _one_line(str(err))
     else:  # not foreseen: still one line, with the way to the traceback
         text = f"unexpected {type(err).__name__}: {err} (run with --debug for the traceback)"

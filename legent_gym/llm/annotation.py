@@ -37,11 +37,23 @@ import hashlib
 import io
 import json
 import math
+import os
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from PIL import Image
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+
+from legent_gym.llm.client import ChatClient, LLMError, describe_error
+from legent_gym.llm.prompts import ANNOTATION_PROMPT
+from legent_gym.utils.atomic import atomic_write_text
+from legent_gym.world.assets import registry
+from legent_gym.world.assets.gltf import load_gltf, load_imported_asset, turned_model
+from legent_gym.world.builder import build_world
+from legent_gym.world.preview import preview_scene
+from legent_gym.world.render import FreeCamera, Renderer
+from legent_gym.world.scene import ImportedAsset, ImportedSurface
 
 ANNOTATION_VERSION = 1
 #: Spacing of the downward rays that find placeable surfaces (metres).
@@ -197,8 +209,6 @@ def _r(value: float) -> float:
 
 def import_model(path: Path, up_axis: str = "y", semantics: Semantics | None = None, yaw: float = 0.0) -> Any:
     """The asset as imported with these annotations and turned by ``yaw``."""
-    from legent_gym.world.assets.gltf import load_gltf, turned_model
-
     kwargs: dict[str, Any] = {}
     if semantics is not None:
         placement = "surface" if semantics.on_object else "wall"
@@ -225,11 +235,6 @@ def geometry_of(path: Path, yaw: float = 0.0) -> Geometry:
 def render_views(path: Path, up_axis: str, size: int = 256) -> list[np.ndarray]:
     """Four renders of the asset on a bare floor, from cameras at :data:`VIEW_YAWS` around it
     (view 0 in front of it)."""
-    from legent_gym.world.builder import build_world
-    from legent_gym.world.preview import preview_scene
-    from legent_gym.world.render import FreeCamera, Renderer
-    from legent_gym.world.scene import ImportedAsset
-
     imported = ImportedAsset(id="annotated", source=str(path.resolve()), up_axis=up_axis)  # type: ignore[arg-type]
     world = build_world(preview_scene("annotated", imported=imported, base_dir=path.parent, kind="static"))
     lo, hi = world.assets[0].bounds()
@@ -245,8 +250,6 @@ def render_views(path: Path, up_axis: str, size: int = 256) -> list[np.ndarray]:
 
 
 def png_data_url(image: np.ndarray) -> str:
-    from PIL import Image
-
     buffer = io.BytesIO()
     Image.fromarray(image).save(buffer, format="PNG")
     return "data:image/png;base64," + base64.b64encode(buffer.getvalue()).decode()
@@ -254,8 +257,6 @@ def png_data_url(image: np.ndarray) -> str:
 
 def ask_semantics(client: Any, views: list[np.ndarray], geometry: Geometry) -> Semantics:
     """The VLM's :class:`Semantics` of the asset shown in ``views``."""
-    from legent_gym.llm.prompts import ANNOTATION_PROMPT
-
     text = ANNOTATION_PROMPT.format(x=geometry.size[0], y=geometry.size[1], z=geometry.size[2])
     content: list[dict[str, Any]] = [{"type": "text", "text": text}]
     for index, image in enumerate(views):
@@ -291,8 +292,6 @@ def annotate_asset(path: str | Path, client: Any = None, cache_dir: str | Path |
     annotation = AssetAnnotation(source=str(path), sha256=sha, geometry=geometry, semantics=semantics, yaw=yaw,
                                  missing=[] if semantics is not None else list(SEMANTIC_FIELDS))
     if cached is not None:
-        from legent_gym.utils.atomic import atomic_write_text
-
         cached.parent.mkdir(parents=True, exist_ok=True)
         atomic_write_text(cached, annotation.model_dump_json(indent=1) + "\n")
     return annotation
@@ -306,9 +305,6 @@ def register_annotation(annotation: AssetAnnotation | str | Path, asset_id: str 
     file name). The model is the one a scene's ``assets`` entry from
     :func:`imported_asset` builds, and the registry keeps that entry: a generator that
     places the asset writes it into the scene, so the scene rebuilds it in any process."""
-    from legent_gym.world.assets import registry
-    from legent_gym.world.assets.gltf import load_imported_asset
-
     base = Path.cwd()
     if not isinstance(annotation, AssetAnnotation):
         file = Path(annotation)
@@ -328,9 +324,6 @@ def imported_asset(annotation: AssetAnnotation, path: Path, asset_id: str | None
     (the file's own, before the turn), category, names, pickable, mass, placement
     (``on_object``: surface; else wall) and the surfaces as receptacles (those of a
     receptacle; without semantics, of a thing that is not pickable)."""
-    from legent_gym.world.assets.gltf import load_gltf
-    from legent_gym.world.scene import ImportedAsset, ImportedSurface
-
     semantics = annotation.semantics
     up = annotation.geometry.up_axis
     kwargs: dict[str, Any] = {}
@@ -350,25 +343,17 @@ def imported_asset(annotation: AssetAnnotation, path: Path, asset_id: str | None
 
 
 def write_annotation(annotation: AssetAnnotation, out: str | Path) -> None:
-    from legent_gym.utils.atomic import atomic_write_text
-
     atomic_write_text(Path(out), json.dumps(annotation.model_dump(mode="json"), indent=1) + "\n")
 
 
 def default_cache_dir() -> Path:
     """``$XDG_CACHE_HOME/legent-gym/annotations`` (``~/.cache`` without it)."""
-    import os
-
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "legent-gym" / "annotations"
 
 
 def annotate_command(args: Any, user_error: type[Exception]) -> int:
     """``legent-gym asset annotate`` (``args`` from the CLI); problems a user can cause raise
     ``user_error`` with one line."""
-    import os
-
-    from legent_gym.llm.client import ChatClient, LLMError
-
     path = Path(args.asset)
     if not path.is_file():
         raise user_error(f"{path}: no such file")
@@ -406,8 +391,6 @@ def annotate_command(args: Any, user_error: type[Exception]) -> int:
 def register_annotation_files(paths: list[str] | None, user_error: type[Exception]) -> list[str]:
     """``--asset FILE.asset.json`` of the CLI: register each annotated asset; a file that is
     not an annotation raises ``user_error`` naming it."""
-    from pydantic import ValidationError
-
     ids = []
     for path in paths or []:
         try:
@@ -415,7 +398,5 @@ def register_annotation_files(paths: list[str] | None, user_error: type[Exceptio
         except OSError as err:
             raise user_error(f"{path}: {err.strerror or err}") from None
         except ValidationError as err:
-            from legent_gym.llm.client import describe_error
-
             raise user_error(f"{path}: not an asset annotation: {describe_error(err)}") from None
     return ids

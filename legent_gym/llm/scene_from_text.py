@@ -13,13 +13,18 @@ import json
 from pathlib import Path
 from typing import Any
 
+from pydantic import ValidationError
+
+from legent_gym.llm.client import ChatClient, LLMError, describe_error
 from legent_gym.llm.prompts import scene_plan_messages
+from legent_gym.utils.atomic import atomic_write_text
+from legent_gym.world.generation.plan import ScenePlan, load_plan, solve_plan
+from legent_gym.world.scene import save_scene
+from legent_gym.world.topdown_map import save_topdown_map
 
 
 def plan_from_prompt(client: Any, prompt: str) -> tuple[Any, str]:
     """The plan a chat model writes for ``prompt`` and its raw reply (see the module docstring)."""
-    from legent_gym.world.generation.plan import ScenePlan
-
     return client.complete_model(scene_plan_messages(prompt), ScenePlan, max_tokens=4096)
 
 
@@ -32,13 +37,6 @@ def plan_path_for(out: str | Path) -> Path:
 def generate_scene(args: Any, user_error: type[Exception]) -> int:
     """``legent-gym generate --plan FILE`` or ``--prompt TEXT`` (``args`` from the CLI);
     problems a user can cause raise ``user_error`` with one line."""
-    from pydantic import ValidationError
-
-    from legent_gym.llm.client import ChatClient, LLMError, describe_error
-    from legent_gym.utils.atomic import atomic_write_text
-    from legent_gym.world.generation.plan import load_plan, solve_plan
-    from legent_gym.world.scene import save_scene
-
     if args.plan and args.prompt:
         raise user_error("give --plan FILE or --prompt TEXT, not both")
     if args.out is None:
@@ -79,8 +77,6 @@ def generate_scene(args: Any, user_error: type[Exception]) -> int:
     print(f"wrote {args.out} ({len(scene.rooms)} rooms, {len(scene.objects)} objects; solved in "
           f"{solved.report.seconds * 1000:.0f} ms; {len(solved.report.unmet)} unmet)")
     if args.map:
-        from legent_gym.world.topdown_map import save_topdown_map
-
         save_topdown_map(scene, args.map)
         print(f"wrote {args.map}")
     return 0

@@ -11,7 +11,10 @@ import sys
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
+
 from legent_gym.errors import UserError
+from legent_gym.play.session import PARTNERS, PlaySession, is_partner
 
 
 def parse_size(text: str) -> tuple[int, int]:
@@ -27,8 +30,6 @@ def parse_size(text: str) -> tuple[int, int]:
 
 
 def partner_spec(text: str) -> str:
-    from legent_gym.play.session import PARTNERS, is_partner
-
     if not is_partner(text):
         raise argparse.ArgumentTypeError(f"--partner must be one of {', '.join(PARTNERS)} or "
                                          f"module:function[:ARGUMENT], got {text!r}")
@@ -63,9 +64,8 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
 
 def make_server(args: Any) -> Any:
     """The :class:`~legent_gym.play.server.PlayServer` the arguments describe."""
+    # websockets (the play extra) is imported only to serve.
     from legent_gym.play.server import PlayServer, is_loopback
-    from legent_gym.play.session import PlaySession
-
     if not is_loopback(args.host) and not args.allow_remote:
         raise UserError(f"--host {args.host} is not a loopback address: add --allow-remote to listen there")
     if args.record and args.role != "agent":
@@ -85,13 +85,10 @@ def make_server(args: Any) -> Any:
 
 def run(args: Any) -> int:
     """Start the server, print the URL, serve until interrupted."""
-    import gymnasium as gym
-
-    import legent_gym  # noqa: F401  (registers the ids)
     if args.env_id not in gym.registry:
         raise UserError(f"unknown env id {args.env_id!r} (legent-gym ids look like Legent/ComeHere-OneRoom-v0)")
     server = make_server(args)
-    from legent_gym.play.server import is_loopback
+    from legent_gym.play.server import is_loopback  # the play extra, as in make_server
 
     if not is_loopback(args.host):
         print(f"legent-gym: warning: listening on {args.host}, not loopback: anyone who can reach it "

@@ -31,6 +31,9 @@ import cv2
 import numpy as np
 
 from legent_gym.agent import Speak, format_action
+from legent_gym.data.rollout import make_env
+from legent_gym.experts.expert import Expert
+from legent_gym.play.recorder import Recorder
 from legent_gym.tasks import MAX_ACTIONS
 from legent_gym.world.render import Renderer
 from legent_gym.world.scene import Scene
@@ -77,8 +80,6 @@ class ExpertPartner:
     name = "expert"
 
     def __init__(self, env: Any):
-        from legent_gym.experts.expert import Expert
-
         self.expert = Expert(env)
 
     def act(self, observation: dict[str, Any]) -> str:
@@ -247,6 +248,7 @@ class PlaySession:
         kwargs = dict(env_kwargs or {})
         self.env: Any
         if role == "user":
+            # pettingzoo (the multiagent extra) only for the person as the user.
             import pettingzoo
 
             import legent_gym.multiagent  # noqa: F401  (registers the ids)
@@ -259,14 +261,10 @@ class PlaySession:
             self.partner: Any = policy if policy is not None else make_partner(
                 partner, self.env.unwrapped, seed=seed, llm_url=llm_url, llm_model=llm_model, llm_key=llm_key)
         else:
-            from legent_gym.data.rollout import make_env
-
             self.env = make_env(env_id, kwargs, expert=True)
             self.partner = None
         self.recorder = None
         if record is not None:
-            from legent_gym.play.recorder import Recorder
-
             self.recorder = Recorder(record, env_id, self.env)
         self._renderer: Renderer | None = None
         self._renderer_world: Any = None
