@@ -6,7 +6,7 @@
 Presets (``PRESETS``): OneRoom (a bedroom), TwoRoom (bedroom + living room), FourRoom
 (bedroom, living room, kitchen, bathroom), Apartment (5-6 rooms with an office, a dining
 room or a hallway). :func:`check_house` lists what is wrong with any scene.
-``plan.py``: scene plans (versioned JSON: rooms, doors, objects, relations) and
+``plan``: scene plans (versioned JSON: rooms, doors, objects, relations) and
 :func:`~legent_gym.world.generation.plan.solve_plan`, which builds a scene from one.
 """
 
