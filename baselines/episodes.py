@@ -12,20 +12,24 @@ episode) gives the same result every run. Success is the environment's own rule
 
 from __future__ import annotations
 
-import sys
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Protocol, runtime_checkable
 
-if __package__ in (None, ""):  # run as a script: make `baselines` importable
-    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+import gymnasium as gym
+import numpy as np
 
-import gymnasium as gym  # noqa: E402
-import numpy as np  # noqa: E402
-
-import legent_gym  # noqa: F401, E402  (registers the environments)
-from legent_gym.agent.actions import ActionLimits  # noqa: E402
-from legent_gym.wrappers.sb3 import flat_action_text  # noqa: E402
+import legent_gym  # noqa: F401  (registers the environments)
+from legent_gym.agent.actions import (
+    ActionLimits,
+    MoveForward,
+    RotateDown,
+    RotateRight,
+    format_actions,
+)
+from legent_gym.envs.action_spaces import actions_to_dict
+from legent_gym.experts import Expert
+from legent_gym.wrappers import ExpertInfo
+from legent_gym.wrappers.sb3 import flat_action_text
 
 
 @runtime_checkable
@@ -77,8 +81,6 @@ class ExpertBaseline:
         self._expert = None
 
     def bind(self, env) -> None:
-        from legent_gym.experts import Expert
-
         self._expert = Expert(env)
 
     def reset(self, instruction: str) -> None:
@@ -145,10 +147,6 @@ def expert_takeover(env_id: str, seeds, random_actions: int, action_type: str = 
     random steps (a move of up to 1.5 m, a turn, a tilt; one generator seeded 0 for all the
     seeds), then the expert for up to 25 actions. Returns (episodes the expert finished,
     episodes where success was still possible: not ended by the random steps)."""
-    from legent_gym.agent.actions import MoveForward, RotateDown, RotateRight, format_actions
-    from legent_gym.envs.action_spaces import actions_to_dict
-    from legent_gym.wrappers import ExpertInfo
-
     env = ExpertInfo(gym.make(env_id, width=32, height=32, action_type=action_type,
                               max_episode_steps=25 + random_actions))
     rng = np.random.default_rng(0)

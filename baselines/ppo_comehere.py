@@ -36,14 +36,18 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
-import numpy as np
+if __package__ in (None, ""):  # run as a script: make `baselines` importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import legent_gym  # noqa: F401  (registers the environments)
-from legent_gym.agent.actions import ActionLimits
-from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text
-from legent_gym.wrappers import FlatActions, InstructionTokens
-from legent_gym.wrappers.sb3 import flat_action_text, tokenize
+import gymnasium as gym  # noqa: E402
+import numpy as np  # noqa: E402
+
+import legent_gym  # noqa: F401, E402  (registers the environments)
+from baselines.episodes import RandomPolicy, run_episodes  # noqa: E402
+from legent_gym.agent.actions import ActionLimits  # noqa: E402
+from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
+from legent_gym.wrappers import FlatActions, InstructionTokens  # noqa: E402
+from legent_gym.wrappers.sb3 import flat_action_text, tokenize  # noqa: E402
 
 try:
     import torch
@@ -201,8 +205,6 @@ class SB3Policy:
 
 
 def final_evaluation(model: BaseAlgorithm, config: Config) -> dict[str, Any]:
-    from baselines.evaluate import RandomPolicy, run_episodes
-
     seed = EVAL_SEED_OFFSET + config.seed
     out = {"seeds": [seed, seed + config.eval_episodes - 1]}
     policies = {"ppo_greedy": SB3Policy(model, config, True), "ppo_sampled": SB3Policy(model, config, False),
@@ -228,6 +230,7 @@ def write_curve(out: Path, points: list[CurvePoint], baseline: CurvePoint | None
 
 def plot_curve(points: list[CurvePoint], baseline: CurvePoint | None, title: str = ENV_ID) -> bytes:
     """PNG bytes: success rate and mean return per rollout, the random policy dashed."""
+    # start-up time: matplotlib only for the learning curve
     import matplotlib
 
     matplotlib.use("Agg")  # headless; no display here

@@ -82,6 +82,7 @@ from baselines.vla.checkpoint import read_checkpoint  # noqa: E402
 from baselines.vla.evaluate import EXPERT, RANDOM, evaluate_many, success_rate  # noqa: E402
 from baselines.vla.model import ModelConfig  # noqa: E402
 from baselines.vla.train import FINAL, LAST, TrainConfig, check_shift, parse_channels, train  # noqa: E402
+from legent_gym.data.collect import PROGRESS_FILE
 from legent_gym.tasks import PAPER_WHERE_IS, WhereIs, task_class  # noqa: E402
 from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text  # noqa: E402
 from legent_gym.utils.scale import Backend, connect_ray  # noqa: E402
@@ -224,8 +225,6 @@ def collect_data(root: Path, scale: Scale, workers: int, perturb: float = 0.0, s
 def collection_summary(folders: dict[str, Path]) -> dict[str, dict]:
     """Per task, what its data folder holds (``progress.json`` of ``legent-gym collect``):
     trajectories kept, failed expert attempts skipped, steps."""
-    from legent_gym.data.collect import PROGRESS_FILE
-
     out = {}
     for task, folder in folders.items():
         progress = json.loads((folder / PROGRESS_FILE).read_text())["progress"]
@@ -274,6 +273,7 @@ def collect_dagger_data(root: Path, scale: Scale, workers: int, scan: bool = Fal
     (on the task its data asked: with ``paper_where_is``, LEGENT's Where Is questions).
     Returns the rollout folders and, per task, the round's summary (episodes, the learner's
     success, labelled steps, seconds)."""
+    # start-up time: imported by the stage that runs it
     from baselines.vla.dagger import DaggerConfig, collect_dagger
 
     folders, summaries = {}, {}
@@ -422,6 +422,7 @@ def csv_table(ours: list[tuple[str, list[float]]]) -> str:
 
 
 def bar_chart(ours: list[tuple[str, list[float]]], title: str) -> bytes:
+    # start-up time: matplotlib only for the figure
     import matplotlib
 
     matplotlib.use("Agg")
@@ -523,6 +524,7 @@ def run(scale_name: str, out: Path, workers: int, episodes: int | None = None, e
     scale = replace(scale, shift=shift)
     episodes = episodes or scale.episodes
     if model is not None:  # checked now, not after collecting
+        # start-up time: imported by the stage that runs it
         from baselines.vlm import table as vlm_table
 
         base = vlm_table.base_model(model)

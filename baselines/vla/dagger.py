@@ -34,6 +34,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 import gymnasium as gym
+from tqdm import tqdm
 
 import legent_gym  # noqa: F401  (registers the environments)
 from legent_gym.cli import parse_env_kwargs
@@ -58,6 +59,7 @@ class LearnerDriver:
     (the policy's window and instruction) when the env reports no actions yet."""
 
     def __init__(self, checkpoint: str):
+        # torch (the baselines extra) takes seconds to import: only when a model runs
         from baselines.vla.policy import VLAPolicy
 
         self.policy = VLAPolicy(checkpoint)
@@ -109,8 +111,10 @@ _worker: tuple | None = None
 
 
 def _init_worker(config: DaggerConfig) -> None:
+    # torch (the baselines extra) takes seconds to import: only when a model runs
     import torch
 
+    # torch (the baselines extra) takes seconds to import: only when a model runs
     from baselines.vla.checkpoint import read_checkpoint
 
     torch.set_num_threads(1)  # the workers are the parallelism
@@ -154,6 +158,7 @@ def _rollouts(config: DaggerConfig) -> Iterator[tuple[Episode, list[bytes]]]:
 
 def _template(text: str) -> str | None:
     """Which action a step is, numbers aside (None for text that does not parse)."""
+    # torch (the baselines extra) takes seconds to import: only when a model runs
     from baselines.vla.codec import ActionCodec
 
     decomposed = ActionCodec.encode(text)
@@ -181,8 +186,6 @@ def collect_dagger(config: DaggerConfig, show_progress: bool = True) -> dict:
                           f"({summary.get('config')}): use a new --out")
     if out.exists() and any(out.iterdir()):
         raise DaggerError(f"{out} exists and is not a finished DAgger collection: use a new --out")
-    from tqdm import tqdm
-
     temp = out.with_name(f".{out.name}.tmp")
     shutil.rmtree(temp, ignore_errors=True)
     writer = LegentWriter(temp / "legent")

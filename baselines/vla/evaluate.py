@@ -52,6 +52,7 @@ def _policy(spec: str):
         if spec == RANDOM:
             _policies[spec] = RandomPolicy()
         else:
+            # torch (the baselines extra) takes seconds to import: only when a model runs
             from baselines.vla.policy import VLAPolicy
 
             _policies[spec] = VLAPolicy(spec)
@@ -59,6 +60,7 @@ def _policy(spec: str):
 
 
 def _init_worker() -> None:
+    # torch (the baselines extra) takes seconds to import: only when a model runs
     import torch
 
     torch.set_num_threads(1)  # the workers are the parallelism
@@ -66,6 +68,7 @@ def _init_worker() -> None:
 
 def run_chunk(spec: str, env_id: str, seed: int, episodes: int, env_kwargs: dict) -> list[EpisodeResult]:
     if spec.startswith(VLM):  # a fine-tuned Hugging Face VLM (baselines/vlm): batched decoding
+        # transformers (the vlm extra): only for a vlm:PATH policy
         from baselines.vlm.policy import run_chunk as run_vlm_chunk
 
         return run_vlm_chunk(spec, env_id, seed, episodes, env_kwargs)
@@ -82,6 +85,7 @@ def check_policy(spec: str) -> str:
     if spec in (RANDOM, EXPERT):
         return spec
     if spec.startswith(VLM):
+        # transformers (the vlm extra): only for a vlm:PATH policy
         from baselines.vlm.policy import check_spec
 
         return check_spec(spec)
@@ -136,11 +140,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         if spec in (RANDOM, EXPERT) or spec.startswith(VLM):
             size = args.image_size
         else:
+            # torch (the baselines extra) takes seconds to import: only when a model runs
             from baselines.vla.checkpoint import read_checkpoint
 
             size = read_checkpoint(spec)["config"]["image_size"]
         env_kwargs = {"width": size, "height": size} if size else {}
         if spec.startswith(VLM) and not size:  # the view size the model was trained on
+            # transformers (the vlm extra): only for a vlm:PATH policy
             from baselines.vlm.policy import view_size
 
             env_kwargs = view_size(spec)

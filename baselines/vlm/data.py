@@ -25,6 +25,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from PIL import Image
+
 from baselines.vla.dataset import DatasetError, read_trajectories, resolve_root
 from legent_gym.data.legent_format import read_png
 
@@ -82,8 +84,6 @@ def read_samples(folders: Sequence[str | os.PathLike], limits: Sequence[int | No
 
 def load_image(path: Path):
     """A view as a PIL image (RGB)."""
-    from PIL import Image
-
     return Image.fromarray(read_png(path))
 
 
@@ -121,6 +121,7 @@ class Encoder:
     def batch(self, samples: Sequence[Sample], images: Sequence[Sequence[Any]] | None = None) -> dict[str, Any]:
         """A right-padded training batch: the processor's inputs plus ``labels``, which are
         :data:`IGNORE` everywhere but on the reply's tokens."""
+        # the vlm extra's libraries take seconds to import: only when a model is made or run
         import torch
 
         if images is None:

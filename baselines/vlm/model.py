@@ -48,6 +48,7 @@ def read_meta(source: str) -> dict[str, Any]:
 
 
 def load_processor(source: str) -> Any:
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     from transformers import AutoProcessor
 
     try:
@@ -58,6 +59,7 @@ def load_processor(source: str) -> Any:
 
 def load_model(source: str, dtype: Any = None) -> Any:
     """The model as ``AutoModelForImageTextToText`` loads it (weights in ``dtype``)."""
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     from transformers import AutoModelForImageTextToText
 
     try:
@@ -68,6 +70,7 @@ def load_model(source: str, dtype: Any = None) -> Any:
 
 def pick_dtype(device: str, dtype: str = "auto") -> Any:
     """``auto``: bfloat16 on a GPU that supports it, float32 elsewhere."""
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     import torch
 
     if dtype not in ("auto", "bf16", "fp32"):

@@ -23,7 +23,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
+from PIL import Image
 
 from baselines.episodes import EpisodeResult
 from baselines.llm_agent import NOOP_ACTION, extract_action
@@ -51,6 +53,7 @@ class VLMPolicy:
 
     def __init__(self, source: str | os.PathLike, window: int | None = None, device: str = "auto",
                  max_new_tokens: int = 48, dtype: str = "auto"):
+        # the vlm extra's libraries take seconds to import: only when a model is made or run
         import torch
 
         self.source = check_source(source)
@@ -87,9 +90,8 @@ class VLMPolicy:
 
     def act_batch(self, episodes: Sequence[_Episode], observations: Sequence[dict[str, Any]]) -> list[str]:
         """The next action of each episode (from :meth:`new_episode`), decoded in one batch."""
+        # the vlm extra's libraries take seconds to import: only when a model is made or run
         import torch
-        from PIL import Image
-
         prompts, images = [], []
         for episode, obs in zip(episodes, observations, strict=True):
             episode.views.append(Image.fromarray(np.ascontiguousarray(obs["rgb"], dtype=np.uint8)))
@@ -125,8 +127,6 @@ def run_episodes(policy: VLMPolicy, env_id: str, episodes: int, seed: int, env_k
     """Episodes ``seed .. seed + episodes - 1`` as :func:`baselines.evaluate.run_episodes`
     runs them (the same resets, the same results), ``batch`` at a time in lockstep, each
     step's actions decoded together."""
-    import gymnasium as gym
-
     results: list[EpisodeResult] = []
     for start in range(0, episodes, batch):
         count = min(batch, episodes - start)

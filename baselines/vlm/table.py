@@ -10,6 +10,7 @@ configuration is not trained again; an interrupted one resumes from its ``last``
 
 from __future__ import annotations
 
+import json
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -29,6 +30,7 @@ def training_runs(root: Path, folders: dict[str, Path], tasks: Sequence[str], sm
                   model: str, epochs: int) -> dict[str, FinetuneConfig]:
     """Run name -> configuration: Sep on the small and the large amount of each task, Joint
     on the large amounts of all."""
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     import torch
 
     threads = None if torch.cuda.is_available() else 1  # as the VLA's runs: one thread, the same weights
@@ -46,8 +48,6 @@ def training_runs(root: Path, folders: dict[str, Path], tasks: Sequence[str], sm
 
 def train_models(runs: dict[str, FinetuneConfig], log) -> dict[str, dict]:
     """Fine-tune what is not fine-tuned yet, one model at a time (each takes the GPU)."""
-    import json
-
     metrics = {}
     for name, config in runs.items():
         if trained(config):

@@ -37,6 +37,7 @@ _CORPUS = (
 
 
 def _tokenizer(vocab_size: int):
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     from tokenizers import Tokenizer, decoders, models, pre_tokenizers, trainers
     from transformers import PreTrainedTokenizerFast
 
@@ -61,6 +62,7 @@ def build_tiny_model(out: str | os.PathLike, *, image_size: int = 32, seed: int 
                                    vocab_size=vocab_size)
     if architecture != "llava":
         raise ValueError(f"architecture must be llava or idefics3, got {architecture!r}")
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     import torch
     from transformers import (
         CLIPVisionConfig,
@@ -117,6 +119,7 @@ def build_tiny_idefics3(out: str | os.PathLike, *, image_size: int = 32, seed: i
     """Write a tiny random Idefics3 (SigLIP-style vision encoder, pixel-shuffle connector,
     Llama language model) with its processor (no image splitting: one global image of
     ``(image_size / patch_size)^2 / 4`` tokens per view) to ``out``."""
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     import torch
     from transformers import (
         Idefics3Config,

@@ -40,6 +40,9 @@ from typing import Any
 if __package__ in (None, ""):  # run as a file: make `baselines` importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
+import numpy as np
+from tqdm import tqdm
+
 from baselines.vla.dataset import DatasetError  # noqa: E402
 from baselines.vlm.data import IGNORE, Encoder, image_size, load_image, read_samples  # noqa: E402
 from baselines.vlm.model import (  # noqa: E402
@@ -122,8 +125,6 @@ class FinetuneConfig:
 def _batches(n: int, config: FinetuneConfig, epoch: int, rank: int, world: int) -> list[list[list[int]]]:
     """The optimizer steps of one epoch on one process: lists of micro-batches of sample
     indices. The order depends on the seed and the epoch only."""
-    import numpy as np
-
     order = np.random.default_rng([config.seed, epoch]).permutation(n).tolist()
     micro = [order[i:i + config.batch_size] for i in range(0, n, config.batch_size)]
     mine = micro[rank::world] if len(micro) >= world else micro[: 1]
@@ -152,9 +153,9 @@ def train(config: FinetuneConfig, resume: bool = True, show_progress: bool = Tru
     Raises :class:`ModelError` or :class:`DatasetError` (both ``ValueError``) with one line
     naming what is wrong.
     """
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     import torch
     from accelerate import Accelerator
-    from tqdm import tqdm
     from transformers import get_linear_schedule_with_warmup
     from transformers.utils import logging as hf_logging
 
@@ -191,6 +192,7 @@ def train(config: FinetuneConfig, resume: bool = True, show_progress: bool = Tru
     else:
         model = load_model(source, dtype)
     if config.lora:
+        # the vlm extra's libraries take seconds to import: only when a model is made or run
         from peft import LoraConfig, PeftModel, get_peft_model
 
         if state is not None:
@@ -310,12 +312,14 @@ def _final_model(trained: Any, source: str, dtype: Any, lora: bool) -> Any:
     encoder) are the base's bit for bit: writing the bfloat16 training copy instead would
     round every weight of a float32 base, and merging into it would add the adapter to
     rounded weights."""
+    # the vlm extra's libraries take seconds to import: only when a model is made or run
     import torch
 
     base = load_model(source, "auto")
     if dtype == torch.float32 and base.dtype != torch.float32:
         base = base.float()
     if lora:
+        # the vlm extra's libraries take seconds to import: only when a model is made or run
         from peft import get_peft_model, get_peft_model_state_dict, set_peft_model_state_dict
 
         merged = get_peft_model(base, trained.peft_config["default"])

@@ -35,8 +35,13 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
+import gymnasium as gym
+from tqdm import tqdm
+
 from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
+from legent_gym.data.minari_store import MinariWriter, check_dataset_id
 from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
+from legent_gym.data.video import episode_map, episode_video
 from legent_gym.experts.planners import FIND_STRATEGIES
 from legent_gym.utils.atomic import atomic_write_bytes, atomic_write_text
 from legent_gym.utils.scale import Backend, BackendUnavailable
@@ -166,8 +171,6 @@ class _Worker:
         if "legent" in self.formats:
             result.pngs = episode_pngs(episode)
         if "video" in self.formats:
-            from legent_gym.data.video import episode_map, episode_video
-
             result.video = episode_video(episode)
             result.map_png = encode_png(episode_map(self._scene(), episode))
         if "minari" not in self.formats:
@@ -220,10 +223,6 @@ def _attempt_results(config: CollectConfig, policy, start: int,
 # -- the run ---------------------------------------------------------------------------------
 def _check(config: CollectConfig, policy: Callable | None) -> None:
     """Fail early, in this process, with a message naming what is wrong."""
-    import gymnasium as gym
-
-    import legent_gym  # noqa: F401  (registers the env ids)
-
     if config.episodes < 1:
         raise CollectError(f"--episodes must be >= 1, got {config.episodes}")
     if config.workers < 1:
@@ -258,8 +257,6 @@ def _check(config: CollectConfig, policy: Callable | None) -> None:
         except (ValueError, ImportError) as err:
             raise CollectError(f"--policy {config.policy}: {err}") from None
     if "minari" in config.formats:
-        from legent_gym.data.minari_store import check_dataset_id
-
         try:
             check_dataset_id(config.resolved_dataset_id())
         except ValueError as err:
@@ -310,10 +307,6 @@ def _clean_videos(video_dir: Path, committed: int) -> None:
 
 
 def _open_minari(out: Path, config: CollectConfig, progress: _Progress):
-    import gymnasium as gym
-
-    from legent_gym.data.minari_store import MinariWriter
-
     writer = MinariWriter(out / "minari", config.resolved_dataset_id(), staging=out / ".staging")
     if writer.exists:
         writer.truncate(progress.committed, progress.total_steps)
@@ -421,8 +414,6 @@ def collect(config: CollectConfig, *, policy: Callable | None = None, show_progr
     """Collect ``config.episodes`` successful trajectories into ``config.out`` (resuming
     what is there). ``policy`` overrides ``config.policy`` with a callable (it must be
     importable by worker processes when ``workers > 1``)."""
-    from tqdm import tqdm
-
     if policy is not None:  # a resumed run must be made by the same policy: record its name
         config = replace(config, policy=f"{policy.__module__}:{policy.__qualname__}")
     _check(config, policy)

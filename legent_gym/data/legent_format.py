@@ -45,6 +45,7 @@ IMAGE_TOKEN = "<image>"
 
 
 def encode_png(rgb: np.ndarray) -> bytes:
+    # start-up time: cv2 only when images are encoded
     import cv2
 
     ok, data = cv2.imencode(".png", np.ascontiguousarray(rgb[..., ::-1]))
@@ -55,6 +56,7 @@ def encode_png(rgb: np.ndarray) -> bytes:
 
 def read_png(path: str | os.PathLike) -> np.ndarray:
     """An RGB uint8 image from a PNG written by :func:`encode_png`."""
+    # start-up time: cv2 only when images are encoded
     import cv2
 
     bgr = cv2.imread(str(path), cv2.IMREAD_COLOR)

@@ -60,6 +60,7 @@ def _namespaces(dataset_id: str) -> list[str]:
 
 
 def check_dataset_id(dataset_id: str) -> None:
+    # minari: the data extra
     from minari.dataset.minari_dataset import parse_dataset_id
 
     try:
@@ -97,6 +98,7 @@ class MinariWriter:
     def create(self, env_spec, observation_space: gym.Space, action_space: gym.Space, *,
                algorithm_name: str, description: str) -> None:
         """Make the empty dataset (atomically: it appears whole or not at all)."""
+        # minari: the data extra
         from minari import __version__ as minari_version
         from minari.dataset.minari_storage import MinariStorage
 
@@ -148,6 +150,7 @@ class MinariWriter:
     # -- appending ---------------------------------------------------------------------------
     def _staging_storage(self):
         if self._staging is None:
+            # minari: the data extra
             from minari.dataset.minari_storage import MinariStorage
 
             reference = MinariStorage.read(self.data_path)
@@ -168,6 +171,7 @@ class MinariWriter:
                *, durable: bool = True) -> None:
         """Write ``episode`` as episode ``index`` (the next one) and count it.
         ``durable=False``: no fsync of the count (see :func:`legent_gym.utils.atomic.atomic_write_bytes`)."""
+        # minari: the data extra
         from minari.data_collector import EpisodeBuffer
 
         metadata = self.metadata()
@@ -209,6 +213,7 @@ class MinariWriter:
 def load_minari_dataset(root: str | os.PathLike, dataset_id: str):
     """Open a dataset written here (same as ``minari.load_dataset(dataset_id)`` with
     ``MINARI_DATASETS_PATH=root``, without touching the environment variable)."""
+    # minari: the data extra
     from minari import MinariDataset
 
     data_path = Path(root) / dataset_id / "data"

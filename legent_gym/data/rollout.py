@@ -16,6 +16,9 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from legent_gym.tasks.registry import paper_instruction
+from legent_gym.wrappers.expert import ExpertInfo
+
 Policy = Callable[[dict, dict], Any]
 
 #: The ``--policy`` name of the expert (any other name is ``module:function``).
@@ -54,8 +57,6 @@ def make_env(env_id: str, env_kwargs: dict[str, Any] | None = None, *, expert: b
     ``find_strategy``) when the expert plays."""
     env = gym.make(env_id, **(env_kwargs or {}))
     if expert:
-        from legent_gym.wrappers.expert import ExpertInfo
-
         env = ExpertInfo(env, find_strategy)
     return env
 
@@ -126,8 +127,6 @@ def begin_episode(env: gym.Env, obs: dict, info: dict, *, attempt: int, seed: in
     ``task`` is the task's name and the goal's own description (None for an id it has not,
     WhereIs's ``answers`` a list, where ``info["task"]`` has -1 and one string), with the
     goal in the paper's words (:func:`~legent_gym.tasks.registry.paper_instruction`)."""
-    from legent_gym.tasks.registry import paper_instruction
-
     engine = getattr(env.unwrapped, "episode", None)  # HouseholdEnv's, SingleAgentEnv's
     if engine is None:
         raise TypeError(f"recording needs a legent_gym env (one with an episode engine), got {env.unwrapped}")

@@ -18,6 +18,7 @@ import cv2
 import numpy as np
 
 from legent_gym.data.rollout import Episode
+from legent_gym.world.topdown_map import draw_topdown_map
 
 FPS = 2
 MIN_VIEW_WIDTH = 320
@@ -72,6 +73,7 @@ def frames_per_step(episode: Episode) -> int:
 
 def encode_mp4(frames: list[np.ndarray], fps: int = FPS) -> bytes:
     """H.264 (yuv420p, browser-playable) mp4 bytes of RGB frames of one size."""
+    # av (H.264): the data extra
     import av
 
     if not frames:
@@ -97,6 +99,7 @@ def episode_video(episode: Episode, fps: int = FPS) -> bytes:
 
 def read_video(data_or_path) -> list[np.ndarray]:
     """Decode an mp4 (a path or bytes) to RGB frames."""
+    # av (H.264): the data extra
     import av
 
     source = io.BytesIO(data_or_path) if isinstance(data_or_path, bytes | bytearray) else str(data_or_path)
@@ -107,8 +110,6 @@ def read_video(data_or_path) -> list[np.ndarray]:
 def episode_map(scene, episode: Episode, size: int = 480) -> np.ndarray:
     """The house seen from above with the agent's path drawn, and both people where the
     episode ended."""
-    from legent_gym.world.topdown_map import draw_topdown_map
-
     last = episode.infos[-1] if episode.infos else None
     people = None
     if last is not None:

@@ -48,6 +48,7 @@ from legent_gym.agent.body import Body, Outcome
 from legent_gym.envs.action_spaces import SPEECH_CHARSET, parse_step
 from legent_gym.envs.episode import Episode
 from legent_gym.envs.household import MAX_TEXT, NO_ID, HouseholdEnv, action_info
+from legent_gym.multiagent.registration import id_kwargs
 from legent_gym.multiagent.window import Window
 from legent_gym.tasks.base import MAX_ACTIONS
 from legent_gym.world.builder import GROUP_COLLISION, World
@@ -403,8 +404,6 @@ def env(**kwargs: Any) -> OrderEnforcingWrapper:
 def env_module(env_id: str) -> SimpleNamespace:
     """``env``, ``parallel_env`` and ``raw_env`` bound to a registered id's task and layout,
     shaped like a PettingZoo environment module (``max_cycles_test`` takes one)."""
-    from legent_gym.multiagent.registration import id_kwargs
-
     bound = id_kwargs(env_id)
     return SimpleNamespace(env=functools.partial(env, **bound), parallel_env=functools.partial(parallel_env, **bound),
                            raw_env=functools.partial(raw_env, **bound), __name__=env_id)

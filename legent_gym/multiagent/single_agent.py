@@ -18,7 +18,7 @@ import numpy as np
 
 from legent_gym.envs.episode import Episode
 from legent_gym.multiagent.household import AGENT, USER, HouseholdParallelEnv
-from legent_gym.multiagent.user_policies import UserPolicy, make_policy
+from legent_gym.multiagent.user_policies import StandStill, UserPolicy, make_policy
 
 
 class SingleAgentEnv(gym.Env):
@@ -83,9 +83,8 @@ def make_single_agent(env_id: str, partner: UserPolicy | str | Any = "still", le
     one side fixed. A user that stands still (``partner="still"`` or a ``StandStill``; it
     only turns) is drawn as one mesh, as in the single-agent envs (``user_moves=False``),
     unless ``user_moves`` is given."""
+    # pettingzoo: the multiagent extra
     import pettingzoo
-
-    from legent_gym.multiagent.user_policies import StandStill
 
     if learner == AGENT and (partner == "still" or isinstance(partner, StandStill)):
         kwargs.setdefault("user_moves", False)

@@ -18,6 +18,7 @@ import numpy as np
 def _pygame():
     os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
     try:
+        # pygame: optional, for render_mode='human' alone
         import pygame
     except ImportError as err:
         raise ImportError("render_mode='human' needs pygame: pip install 'legent-gym[multiagent]'") from err

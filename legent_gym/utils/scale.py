@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
+import logging
 import os
 import sys
 import uuid
@@ -100,8 +101,6 @@ def connect_ray(address: str | None, workers: int) -> Any:
     ray = require_ray()
     if ray.is_initialized():
         return ray
-    import logging
-
     if address is None:
         # "local": a new Ray, even where RAY_ADDRESS or a `ray start` cluster would be joined.
         ray.init(address="local", num_cpus=workers, include_dashboard=False, _node_ip_address="127.0.0.1",

@@ -37,6 +37,8 @@ from collections.abc import Callable, Generator, Iterable, Iterator, Sized
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
+from tqdm import tqdm
+
 from legent_gym.utils.scale import Backend, in_call_order, ray_results
 
 __all__ = ["map_ordered", "mp_context"]
@@ -100,8 +102,6 @@ def map_ordered(fn: Callable[..., Any], calls: Iterable[tuple], *, workers: int 
 
 
 def _counted(results: Generator[Any, None, None], progress: bool | str, total: int | None) -> Iterator[Any]:
-    from tqdm import tqdm
-
     with tqdm(total=total, desc=progress if isinstance(progress, str) else None, disable=not progress,
               unit="call") as bar:
         try:

@@ -30,6 +30,7 @@ import mujoco
 import numpy as np
 
 from legent_gym.world.assets import registry
+from legent_gym.world.assets.gltf import load_imported_asset
 from legent_gym.world.assets.model import AssetModel, Link, Part, box_part
 from legent_gym.world.geometry import (
     door_hinge_point,
@@ -469,8 +470,6 @@ class _SpecBuilder:
     def _asset_for(self, obj) -> AssetModel:
         imported = self._imported
         if obj.asset in imported:
-            from legent_gym.world.assets.gltf import load_imported_asset
-
             model = load_imported_asset(imported[obj.asset], scene_base_dir(self.scene))
         else:
             model = registry.make(obj.asset, obj.variant)

@@ -21,6 +21,8 @@ from typing import TYPE_CHECKING, cast
 
 import numpy as np
 
+from legent_gym.world.assets import registry
+
 if TYPE_CHECKING:  # the scene format imports this module: no import of it at run time
     from legent_gym.world.assets.model import AssetModel
     from legent_gym.world.scene import Door, ObjectInstance, Scene, Wall, Window
@@ -365,8 +367,6 @@ def local_footprint(model: AssetModel) -> np.ndarray:
 def asset_local_bounds(scene: Scene | None, obj: ObjectInstance) -> np.ndarray | None:
     """The object's scaled bounds ``[[xmin, ymin, zmin], [xmax, ymax, zmax]]`` in its own
     frame; ``None`` when the asset is unknown (an import without a size)."""
-    from legent_gym.world.assets import registry
-
     scale = np.asarray(obj.scale, dtype=np.float64)
     if scene is not None:
         for imported in scene.assets:

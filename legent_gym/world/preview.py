@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from legent_gym.world.assets import registry
+from legent_gym.world.assets.gltf import load_imported_asset
 from legent_gym.world.builder import World, build_world
 from legent_gym.world.render import FreeCamera, Profile, Renderer
 from legent_gym.world.scene import ImportedAsset, Scene, validate_scene
@@ -19,8 +20,6 @@ def preview_scene(asset_id: str, variant: int = 0, *, imported: ImportedAsset | 
     if imported is None:
         pickupable = registry.describe(asset_id).pickupable
     else:
-        from legent_gym.world.assets.gltf import load_imported_asset
-
         pickupable = load_imported_asset(imported, base_dir or Path.cwd()).pickupable
     kind = kind or ("interactable" if pickupable else "static")
     data = {

@@ -103,6 +103,7 @@ def _shared_gl_context(width: int, height: int):
         raise RuntimeError(FORK_AFTER_GL)
     ctx = getattr(_local, "context", None)
     if ctx is None:
+        # the OpenGL backend MUJOCO_GL names, loaded at the first render
         from mujoco import gl_context
 
         if gl_context.GLContext is None:
@@ -127,6 +128,7 @@ def _current_check(ctx):
     egl_context = getattr(ctx, "_context", None)
     if type(ctx).__module__ != "mujoco.egl" or egl_context is None:
         return lambda: False
+    # PyOpenGL's EGL, with the EGL backend alone
     from OpenGL import EGL
 
     address = egl_context.address

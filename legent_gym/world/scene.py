@@ -26,15 +26,19 @@ import json
 import math
 import os
 import re
+import shutil
 import stat
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Annotated, Any, Final, Literal
+from urllib.parse import unquote
 
 from pydantic import BaseModel, ConfigDict, Field, PrivateAttr, ValidationError, field_validator
 
 from legent_gym.utils.atomic import atomic_write_text
+from legent_gym.world.assets import registry
 from legent_gym.world.geometry import polygon_signed_area
+from legent_gym.world.styles import STYLES
 
 SCENE_FORMAT: Final = "legent_gym.scene"
 SCENE_VERSION: Final = 1
@@ -419,8 +423,6 @@ def check_references(scene: Scene, asset_known: AssetLookup | None = None) -> li
             if rid != "exterior" and rid not in room_ids:
                 problems.append((f"doors[{i}].connects[{j}]", f"unknown room {rid!r}"))
 
-    from legent_gym.world.styles import STYLES
-
     if scene.style.preset not in STYLES:
         problems.append(("style.preset", f"unknown style preset {scene.style.preset!r}; known: {', '.join(STYLES)}"))
     imported = {a.id for a in scene.assets}
@@ -439,8 +441,6 @@ def check_references(scene: Scene, asset_known: AssetLookup | None = None) -> li
 
 
 def _default_asset_lookup() -> AssetLookup:
-    from legent_gym.world.assets import registry
-
     return registry.has
 
 
@@ -613,8 +613,6 @@ def portable_scene(scene: Scene, folder: Path, stem: str) -> Scene:
 def _copy_asset_file(source: Path, folder: Path) -> Path:
     """Copy a .glb, or a .gltf with the relative buffer and image files it names, into
     ``folder``; the copy's path."""
-    import shutil
-
     folder.mkdir(parents=True, exist_ok=True)
     target = folder / source.name
     shutil.copyfile(source, target)
@@ -627,8 +625,6 @@ def _copy_asset_file(source: Path, folder: Path) -> Path:
             uri = entry.get("uri") if isinstance(entry, dict) else None
             if not isinstance(uri, str) or _URL_SCHEME.match(uri) or uri.startswith(("/", "\\")):
                 continue
-            from urllib.parse import unquote
-
             part = (source.parent / unquote(uri)).resolve()
             if part.is_file() and part.is_relative_to(source.parent.resolve()):
                 dest = folder / part.relative_to(source.parent.resolve())

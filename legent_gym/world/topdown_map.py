@@ -12,6 +12,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from legent_gym.world.assets import registry
 from legent_gym.world.geometry import (
     door_hinge_point,
     door_passable,
@@ -74,8 +75,6 @@ def _label(img: np.ndarray, text: str, at: tuple[int, int], scale: float) -> Non
 
 
 def _asset_name(asset_id: str) -> str:
-    from legent_gym.world.assets import registry
-
     if registry.has(asset_id):
         return registry.describe(asset_id).names[0]
     return asset_id.replace("_", " ")

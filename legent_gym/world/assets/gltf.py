@@ -37,7 +37,9 @@ import dataclasses
 import io
 import json
 import math
+import os
 import re
+import stat
 import struct
 import warnings
 from collections import OrderedDict
@@ -49,6 +51,7 @@ from urllib.parse import unquote
 
 import numpy as np
 
+from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import AssetModel, Link, Part, Placement, Receptacle
 
 __all__ = [
@@ -172,8 +175,6 @@ def register_gltf(asset_id: str, path: str | Path, *, replace: bool = False, **k
     ``replace=True`` overrides an id that is already registered (as in
     :func:`registry.register`); other keyword arguments go to :func:`load_gltf`.
     """
-    from legent_gym.world.assets import registry
-
     model = load_gltf(Path(path).resolve(), **kwargs)
     # A shallow copy under the registered id: registry.make() renames models whose id
     # differs, and the cached model may be shared by several ids.
@@ -246,8 +247,6 @@ def scene_asset_model(scene: Any, asset_id: str, variant: int = 0) -> AssetModel
     for entry in scene.assets:
         if entry.id == asset_id:  # paths relative to the scene file's folder (a built scene: the cwd)
             return load_imported_asset(entry, scene.base_dir or Path.cwd())
-    from legent_gym.world.assets import registry
-
     return registry.make(asset_id, variant)
 
 
@@ -433,9 +432,6 @@ def _check_file(path: Path, target: Path, what: str) -> None:
     """``target`` (the file itself or one it refers to) must be a regular file of at most
     ``MAX_GLTF_BYTES``; errors name ``path`` and ``what``. Asked before opening: opening a
     FIFO would wait for a writer, and reading a device may not end."""
-    import os
-    import stat
-
     try:
         info = os.stat(target)
     except OSError as err:
@@ -569,6 +565,7 @@ def _check_images(path: Path, document: dict, binary: bytes | None) -> None:
     (the parts keep their base colour) so that files with, say, a KTX2 texture and a PNG
     fallback still import.
     """
+    # start-up time: only for a textured glTF
     from PIL import Image
 
     for index, image in enumerate(document.get("images", []) or []):
@@ -610,6 +607,7 @@ def _uri_bytes(path: Path, uri: str) -> bytes:
 
 def _load_scene(path: Path):
     """The file as a trimesh Scene; any loader failure becomes an AssetImportError."""
+    # trimesh takes seconds to import: only when a glTF file is read
     import trimesh
 
     try:
@@ -623,6 +621,7 @@ def _load_scene(path: Path):
 
 def _scene_parts(path: Path, scene, document: dict) -> list[Part]:
     """One Part per (node instance, triangle primitive), in the file's world frame."""
+    # trimesh takes seconds to import: only when a glTF file is read
     import trimesh
 
     parts: list[Part] = []
@@ -706,6 +705,7 @@ def _appearance(path: Path, mesh, name: str, images: dict[int, np.ndarray | None
     with its UVs; MuJoCo has no per-vertex colour, so vertex colours are averaged into the
     rgba (weighted by triangle area, so dense regions do not dominate).
     """
+    # trimesh takes seconds to import: only when a glTF file is read
     from trimesh.visual.color import ColorVisuals
     from trimesh.visual.texture import TextureVisuals
 
@@ -767,6 +767,7 @@ def _texture_array(path: Path, image, name: str,
     """
     if id(image) in images:
         return images[id(image)]
+    # start-up time: only for a textured glTF
     from PIL import Image
 
     try:
@@ -895,6 +896,7 @@ def _assign_collision(path: Path, parts: list[Part]) -> list[Part]:
 
 def _hull_volume(vertices: np.ndarray) -> float:
     """The volume of the points' convex hull (0 where qhull finds none)."""
+    # start-up time: only when a glTF's hull is measured
     from scipy.spatial import ConvexHull, QhullError
 
     try:

@@ -287,6 +287,7 @@ def sphere_part(center, radius, rgba=(0.7, 0.7, 0.7, 1.0), *, scale=(1.0, 1.0, 1
         base, unit, scalar, faces = _unit_icosphere()
         vertices = base + unit * (float(radius) - scalar).reshape((-1, 1))
     else:
+        # trimesh takes seconds to import: only for icospheres it has not made before
         import trimesh
 
         mesh = trimesh.creation.icosphere(subdivisions=subdivisions, radius=radius)
@@ -299,6 +300,7 @@ def sphere_part(center, radius, rgba=(0.7, 0.7, 0.7, 1.0), *, scale=(1.0, 1.0, 1
 def _unit_icosphere() -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """trimesh.creation.icosphere(1)'s inputs to its radius step: the subdivided
     icosahedron's vertices, their unit directions and lengths, and the faces."""
+    # trimesh takes seconds to import: only for icospheres it has not made before
     import trimesh
 
     # icosphere() marks its icosahedron as not to be validated; Trimesh never validates

@@ -14,6 +14,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 
+from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import AssetModel
 from legent_gym.world.generation.roomtypes import normalise_room_types, parse_rooms, singular
 
@@ -83,8 +84,6 @@ class Catalog:
     def from_registry(cls) -> Catalog:
         """The catalog of the registry as it is now (one object, shared, until the registry
         changes: treat it as read-only)."""
-        from legent_gym.world.assets import registry
-
         version = registry.version()
         cached = _CATALOG.get(version)
         if cached is None:

@@ -30,6 +30,7 @@ from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import AssetModel, Receptacle
 from legent_gym.world.generation.conditions import Catalog
 from legent_gym.world.generation.floorplan import WALL_THICKNESS, FloorPlan
+from legent_gym.world.generation.roomtypes import ROOM_TYPES
 from legent_gym.world.geometry import (
     QUARTER_TURNS,
     bounding_box,
@@ -862,8 +863,6 @@ def fit_centered(rec: Receptacle, local: np.ndarray) -> np.ndarray | None:
 
 
 def room_label(fp: FloorPlan, i: int) -> str:
-    from legent_gym.world.generation.roomtypes import ROOM_TYPES
-
     return ROOM_TYPES[fp.types[i]].name
 
 

@@ -40,7 +40,7 @@ from legent_gym.world.generation.furnish import (
     allowed_room_types,
     furnish_house,
 )
-from legent_gym.world.generation.presets import preset
+from legent_gym.world.generation.presets import PRESETS, preset
 from legent_gym.world.generation.roomtypes import ROOM_TYPES, parse_rooms
 from legent_gym.world.generation.small_objects import (
     SmallPlaced,
@@ -452,8 +452,6 @@ def resolve_spec(spec: Any) -> HouseSpec | None:
         try:
             return make_spec(None, {"rooms": parse_rooms(spec)})
         except ValueError as err:
-            from legent_gym.world.generation.presets import PRESETS
-
             raise GenerationError(f"{err}; or a preset: {', '.join(PRESETS)}") from None
     if isinstance(spec, list | tuple):
         return make_spec(None, {"rooms": list(spec)})
