@@ -15,7 +15,8 @@ import pytest
 import trimesh
 from scipy import ndimage
 
-from legent_gym.agent.actions import ActionParseError, _parse_simple, _Parser, parse_actions
+from legent_gym.agent.actions import ActionParseError, parse_actions
+from legent_gym.agent.actions.parse import _parse_simple, _Parser
 from legent_gym.agent.body import SKIN, Body, _circle_hit
 from legent_gym.world.assets.model import AssetModel, Link, box_part, sphere_part
 from legent_gym.world.builder import build_world
