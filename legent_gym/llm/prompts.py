@@ -14,6 +14,8 @@ from __future__ import annotations
 from typing import Any
 
 from legent_gym.tasks import TASKS
+from legent_gym.world.generation.conditions import Catalog
+from legent_gym.world.generation.roomtypes import ROOM_TYPES
 
 SCENE_PLAN_PROMPT_VERSION = 1
 
@@ -42,9 +44,6 @@ SCENE_PLAN_USER = "Describe the home: {prompt}"
 
 def scene_plan_messages(prompt: str, catalog: Any = None) -> list[dict[str, str]]:
     """The chat messages that ask for a plan of ``prompt`` (the library's categories listed)."""
-    from legent_gym.world.generation.conditions import Catalog
-    from legent_gym.world.generation.roomtypes import ROOM_TYPES
-
     catalog = catalog or Catalog.from_registry()
     furniture = [c for c in catalog.categories if catalog.is_furniture(c) and catalog.describe(c).placement != "surface"]
     surface = [c for c in catalog.categories if catalog.is_furniture(c) and catalog.describe(c).placement == "surface"]

@@ -38,7 +38,15 @@ from typing import Any
 
 from pydantic import BaseModel, Field, ValidationError
 
+from legent_gym.envs.household import HouseholdEnv
+from legent_gym.experts import Expert, PlanningError, ProgramExecutor
+from legent_gym.experts.program import ProgramError, check_program, parse_program
+from legent_gym.llm.client import ChatClient, LLMError, describe_error
+from legent_gym.llm.prompts import TASK_PROMPT_VERSION, task_messages
+from legent_gym.tasks import MAX_ACTIONS
 from legent_gym.tasks.custom import TASKS_FORMAT, TASKS_VERSION, TaskSpec
+from legent_gym.utils.atomic import atomic_write_text
+from legent_gym.world.scene import load_scene
 
 #: The most tasks one request asks for.
 MAX_TASKS = 100
@@ -87,8 +95,6 @@ _LEGENT_TASK = re.compile(r"^\s*Task:\s*(?P<task>.+?)\s*;\s*Plan:\s*(?P<plan>.*?
 def from_legent_text(text: str, scene: Any) -> dict[str, Any]:
     """A task dict from LEGENT's ``Task: ...; Plan: ...; Solution: ...`` form, its kind and
     objects read off the solution's code; ``ValueError`` saying why not."""
-    from legent_gym.experts.program import ProgramError, parse_program
-
     match = _LEGENT_TASK.match(text)
     if match is None:
         raise ValueError("neither a JSON object nor 'Task: ...; Plan: ...; Solution: ...'")
@@ -126,8 +132,6 @@ def from_legent_text(text: str, scene: Any) -> dict[str, Any]:
 
 def _static_problem(spec: TaskSpec, ctx: Any) -> str | None:
     """Why the task's code or objects cannot be right in this scene (None: they can)."""
-    from legent_gym.experts.program import ProgramError, check_program, parse_program
-
     try:
         program = parse_program(spec.code)
         check_program(program, [o.id for o in ctx.scene.objects], [d.id for d in ctx.scene.doors])
@@ -147,9 +151,6 @@ def _static_problem(spec: TaskSpec, ctx: Any) -> str | None:
 def _run(env: Any, index: int, policy: str, code: str) -> tuple[bool, int, str]:
     """Play task ``index`` of the env's Custom task with ``policy`` (``"code"``: the task's
     code; ``"expert"``: the task expert): (success, actions, why not)."""
-    from legent_gym.experts import Expert, PlanningError, ProgramExecutor
-    from legent_gym.tasks import MAX_ACTIONS
-
     env.unwrapped.episode.task.next_index = index
     _, info = env.reset(seed=0)
     if info["success"]:
@@ -173,8 +174,6 @@ def _run(env: Any, index: int, policy: str, code: str) -> tuple[bool, int, str]:
 def check_tasks(scene: Any, drafts: list[Any], *, header: dict[str, Any] | None = None) -> Outcome:
     """Check each draft (a dict as the LLM wrote it) in ``scene`` (see the module
     docstring): the kept tasks and the rejected ones with their reasons."""
-    from legent_gym.envs.household import HouseholdEnv
-
     objects = [[o.id, o.asset] for o in scene.objects]
     outcome = Outcome({"format": TASKS_FORMAT, "version": TASKS_VERSION, "scene": scene.name,
                        "objects": objects, **(header or {})})
@@ -195,8 +194,6 @@ def check_tasks(scene: Any, drafts: list[Any], *, header: dict[str, Any] | None 
         try:
             spec = TaskSpec.model_validate(draft)
         except ValidationError as err:
-            from legent_gym.llm.client import describe_error
-
             slots.append({"status": "rejected", "reason": f"not a task: {describe_error(err)}", "reply": draft})
             continue
         key = (spec.kind, " ".join(spec.instruction.lower().split()))
@@ -245,13 +242,6 @@ def check_tasks(scene: Any, drafts: list[Any], *, header: dict[str, Any] | None 
 def generate_tasks(args: Any, user_error: type[Exception]) -> int:
     """``legent-gym tasks generate`` (``args`` from the CLI); problems a user can cause raise
     ``user_error`` with one line."""
-    from legent_gym.envs.household import HouseholdEnv
-    from legent_gym.llm.client import ChatClient, LLMError
-    from legent_gym.llm.prompts import TASK_PROMPT_VERSION, task_messages
-    from legent_gym.tasks.custom import TaskSpec
-    from legent_gym.utils.atomic import atomic_write_text
-    from legent_gym.world.scene import load_scene
-
     if not 1 <= args.n <= MAX_TASKS:
         raise user_error(f"--n must be between 1 and {MAX_TASKS}, got {args.n}")
     if not args.model:
