@@ -106,6 +106,24 @@ def test_a_house_from_a_helper_has_the_same_asset_models():
     assert facts[0] == facts[1] and len(facts[0]) > 10
 
 
+def test_a_house_comes_once_however_many_jobs_ask_for_its_episodes():
+    # With 4 episodes per house and 8 ahead, a block's episodes are asked for over several
+    # resets: only the first of them brings the house.
+    env = gym.make("Legent/ComeHere-OneRoom-v0", width=SIZE, height=SIZE, helpers=1, episodes_per_house=4)
+    try:
+        env.reset(seed=1)  # played here: its house is known to the helper's later jobs
+        episode = env.unwrapped.episode
+        first = episode.house.draw.key
+        keys = set()
+        for _ in range(13):
+            env.reset()
+            keys.add(episode.house.draw.key)
+        assert episode.episodes_from_helpers == 13
+        assert episode._factory.houses_received == len(keys - {first}) == 3
+    finally:
+        env.close()
+
+
 def test_a_moved_generator_is_followed_not_the_prepared_episodes():
     # Drawing from the env's generator between episodes changes the next block's seed (five
     # draws: beyond the seeds handed to the helper): what the helper made for the old ones

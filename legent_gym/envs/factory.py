@@ -54,8 +54,8 @@ import tempfile
 import threading
 import traceback
 import weakref
-from collections import deque
-from collections.abc import Iterator, Mapping
+from collections import OrderedDict, deque
+from collections.abc import Collection, Iterator, Mapping
 from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from pathlib import Path
@@ -83,6 +83,8 @@ WORLD_TABLES = tuple(f.name for f in dataclasses.fields(World) if f.init and f.n
 CLOSE_TIMEOUT = 5.0
 #: Episodes of new houses each helper is given ahead of the env (one playing, one waiting).
 AHEAD_PER_HELPER = 2
+#: House keys a helper remembers having shipped (see ``helper_main``).
+RECENT_HOUSES = 16
 
 
 class HelperDied(RuntimeError):
@@ -239,17 +241,17 @@ class PreparedEpisode:
 _SHIPPED_ASSETS: set[tuple[str, int]] = set()
 
 
-def prepare(episode: Episode, seed: int, known: set, folder: str, shipped: tuple | None) -> PreparedEpisode:
+def prepare(episode: Episode, seed: int, known: set, folder: str, shipped: Collection[tuple]) -> PreparedEpisode:
     """Play ``seed`` in ``episode`` (a helper's copy) and describe the result; the house
-    goes along unless its key is in ``known`` or is ``shipped`` (sent with the last episode
-    of the same job)."""
+    goes along unless its key is in ``known`` or in ``shipped`` (sent with an episode the
+    env will take before this one)."""
     attempts = episode.play(seed)
     ctx, goal, house = episode.require(), episode.require_goal(), episode.house
     assert house is not None
     goal.distance_left(ctx)  # what the env's reset measures, found here
     key = house.draw.key
     payload = None
-    if key not in known and key != shipped:
+    if key not in known and key not in shipped:
         payload = HousePayload.of(house, os.path.join(folder, f"{os.getpid()}-{seed}.mjb"), _SHIPPED_ASSETS)
     return PreparedEpisode(seed, attempts, key, payload, house.episodes, ctx.scene.agent, ctx.scene.user, goal,
                            ctx.cached_distances())
@@ -347,6 +349,8 @@ class EpisodeFactory:
         self._spent: list[str] = []
         #: Errors helpers reported (the episode was then played in the env's process).
         self.errors: list[str] = []
+        #: Episodes taken that brought their house.
+        self.houses_received = 0
         #: The asset library's models helpers shipped, by (asset id, variant).
         self.library: dict[tuple[str, int], ShippedModel] = {}
 
@@ -365,15 +369,19 @@ class EpisodeFactory:
             status, files = self._ready.pop(seed)
             if status == "ok":
                 self._spent.extend(files)
+        k = self.episodes_per_house
         jobs: dict[int, list[int]] = {}
         for seed in seeds:
             if seed not in self._playing and seed not in self._ready:
-                jobs.setdefault(seed // self.episodes_per_house, []).append(seed)
-        for job in jobs.values():
+                jobs.setdefault(seed // k, []).append(seed)
+        # Blocks with an episode sent before: its house comes with that one (when it is not
+        # known), which the env takes first; a helper that shipped it does not ship it again.
+        coming = {s // k for s in self._playing} | {s // k for s in self._ready}
+        for block, job in jobs.items():
             helper = self._helper_for(job[0])
             # The helper removes the files of episodes taken or dropped (not the env's time).
             try:
-                helper.conn.send({"seeds": job, "known": known, "remove": self._spent})
+                helper.conn.send({"seeds": job, "known": known, "remove": self._spent, "coming": block in coming})
             except OSError as err:
                 raise helper.died() from err
             self._spent = []
@@ -403,6 +411,7 @@ class EpisodeFactory:
         self._spent.extend(files)
         with open(files[0], "rb") as fh:
             prepared: PreparedEpisode = pickle.load(fh)
+        self.houses_received += prepared.house is not None
         return prepared
 
     def _receive(self, *, block: bool, helper: _Helper | None = None) -> None:
@@ -446,6 +455,8 @@ def helper_main(fd: int) -> int:
     episode: Episode = pickle.loads(init["episode"])
     episode.prepare_ahead, episode.helpers, episode.keep_binaries = False, 0, True
     folder = init["folder"]
+    #: Keys of the houses this helper shipped last, oldest first.
+    recent: OrderedDict[tuple, None] = OrderedDict()
     while True:
         try:
             job = conn.recv()
@@ -457,12 +468,16 @@ def helper_main(fd: int) -> int:
         for spent in job["remove"]:
             with contextlib.suppress(OSError):
                 os.unlink(spent)
-        shipped = None
+        shipped = set(recent) if job["coming"] else set()
         for seed in job["seeds"]:
             path = os.path.join(folder, f"{os.getpid()}-{seed}.pkl")
             try:
                 prepared = prepare(episode, seed, job["known"], folder, shipped)
-                shipped = prepared.key
+                shipped.add(prepared.key)
+                if prepared.house is not None:
+                    recent[prepared.key] = None
+                    while len(recent) > RECENT_HOUSES:
+                        recent.popitem(last=False)
                 tmp = path + ".tmp"
                 with open(tmp, "wb") as fh:
                     pickle.dump(prepared, fh, protocol=pickle.HIGHEST_PROTOCOL)
