@@ -286,6 +286,7 @@ class _InfoBook:
         # Whether every env's schema is the same one, of plain leaves (the fast path).
         self._uniform: bool | None = None
         self._plans: dict[tuple, _ColumnPlan] = {}
+        self._kept: _KeptColumns | None = None
 
     def update(self, i: int, payload: bytes | memoryview) -> None:
         if not payload:
@@ -295,11 +296,20 @@ class _InfoBook:
             schema, values = data
             self.schemas[i] = self._interned.setdefault(schema, schema)
             self.values[i] = values
-            self._uniform = None
+            self._uniform, self._kept = None, None
         else:
             values = self.values[i]
-            for j, value in data:
-                values[j] = value
+            kept = self._kept
+            if kept is None:
+                for j, value in data:
+                    values[j] = value
+            else:
+                where = kept.where
+                for j, value in data:
+                    values[j] = value
+                    spot = where.get(j)
+                    if spot is not None:
+                        spot[0][spot[1], i] = value
 
     def batch(self, envs: Sequence[int] | None = None) -> dict:
         """The batched infos of ``envs`` (all when None), as ``SyncVectorEnv`` gives them."""
@@ -326,10 +336,11 @@ class _InfoBook:
                 t is dict or path == ("final_obs",) for path, t in first)
             if self._uniform:
                 self._plan = _ColumnPlan(first)
+                self._kept = _KeptColumns(self._plan, self.values, self.n)
         return self._uniform
 
     def _columns(self) -> dict:
-        return self._plan.build(self.values, self.n)
+        return self._plan.build(self.values, self.n, self._kept)
 
     def compact(self, envs: Sequence[int]) -> dict:
         """The infos of ``envs`` batched as a vector env of ``len(envs)`` envs would give
@@ -506,11 +517,14 @@ class _ColumnPlan:
             self.steps.append((nodes[path[:-1]], path[-1], f"_{path[-1]}", len(self.steps), where[j]))
         self.nodes = len(nodes)
 
-    def build(self, values: list[list], n: int) -> dict:
+    def build(self, values: list[list], n: int, kept: _KeptColumns | None = None) -> dict:
         blocks: list[Any] = []
-        for kind, idx, get in self.groups:
+        for g, (kind, idx, get) in enumerate(self.groups):
             k = len(idx)
-            if kind is object:
+            block = None if kept is None else kept.blocks[g]
+            if block is not None:
+                blocks.append(list(block.copy()))
+            elif kind is object:
                 flat = np.fromiter(chain.from_iterable(map(get, values)), dtype=object, count=n * k)
                 blocks.append(list(flat.reshape(n, k).T))
             elif kind is np.ndarray:
@@ -534,6 +548,27 @@ class _ColumnPlan:
                 into[key] = blocks[what[0]][what[1]]
             into[mask_key] = masks[m]
         return made[0]
+
+
+class _KeptColumns:
+    """For a :class:`_ColumnPlan`, per kind of leaf (but arrays) a (leaves, envs) block that
+    holds every env's current values, set as the workers' messages come: a batch is then
+    one copy per kind."""
+
+    def __init__(self, plan: _ColumnPlan, values: list[list], n: int):
+        self.blocks: list[np.ndarray | None] = []
+        #: leaf number -> (its block, its row)
+        self.where: dict[int, tuple[np.ndarray, int]] = {}
+        for kind, idx, _ in plan.groups:
+            if kind is np.ndarray:
+                self.blocks.append(None)
+                continue
+            block = np.empty((len(idx), n), dtype=kind)
+            for row, j in enumerate(idx):
+                for i in range(n):
+                    block[row, i] = values[i][j]
+                self.where[j] = (block, row)
+            self.blocks.append(block)
 
 
 def _one(j: int) -> Callable[[Sequence[Any]], tuple]:
