@@ -23,6 +23,7 @@ collision only (never drawn), 4 the agent's body but its hands, 5 the user's bod
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -107,7 +108,8 @@ class World:
     scene: Scene
     model: mujoco.MjModel
     data: mujoco.MjData
-    assets: dict[int, AssetModel]
+    #: Object id -> its asset model (a house from an episode helper loads each on first use).
+    assets: Mapping[int, AssetModel]
     object_body: dict[int, int]
     object_joints: dict[int, dict[str, int]]
     door_joint: dict[str, int]
