@@ -125,19 +125,19 @@ def cmd_asset_preview(args) -> int:
 def cmd_asset_annotate(args) -> int:
     if args.out:
         _check_output(args.out)
-    return annotate_command(args, UserError)
+    return annotate_command(args)
 
 
 def cmd_generate(args) -> int:
     if not 0 <= args.seed <= MAX_SEED:
         raise UserError(f"--seed must be between 0 and {MAX_SEED}, got {args.seed}")
     if args.asset:
-        register_annotation_files(args.asset, UserError)
+        register_annotation_files(args.asset)
     if args.plan is not None or args.prompt is not None:
         for path in (args.out, args.map):
             if path:
                 _check_output(path)
-        return generate_scene(args, UserError)
+        return generate_scene(args)
     if args.count < 1:
         raise UserError(f"--count must be >= 1, got {args.count}")
     if args.seed + args.count - 1 > MAX_SEED:
@@ -170,8 +170,8 @@ def cmd_generate(args) -> int:
 
 def cmd_tasks_generate(args) -> int:
     _check_output(args.out)
-    register_annotation_files(args.asset, UserError)
-    return generate_tasks(args, UserError)
+    register_annotation_files(args.asset)
+    return generate_tasks(args)
 
 
 #: The largest house seed (seeds are stored in the scene and seed numpy's generators).

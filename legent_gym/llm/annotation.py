@@ -45,6 +45,7 @@ import numpy as np
 from PIL import Image
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
+from legent_gym.errors import UserError
 from legent_gym.llm.client import ChatClient, LLMError, describe_error
 from legent_gym.llm.prompts import ANNOTATION_PROMPT
 from legent_gym.utils.atomic import atomic_write_text
@@ -351,14 +352,14 @@ def default_cache_dir() -> Path:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "legent-gym" / "annotations"
 
 
-def annotate_command(args: Any, user_error: type[Exception]) -> int:
+def annotate_command(args: Any) -> int:
     """``legent-gym asset annotate`` (``args`` from the CLI); problems a user can cause raise
-    ``user_error`` with one line."""
+    :class:`~legent_gym.errors.UserError` with one line."""
     path = Path(args.asset)
     if not path.is_file():
-        raise user_error(f"{path}: no such file")
+        raise UserError(f"{path}: no such file")
     if path.suffix.lower() not in (".glb", ".gltf"):
-        raise user_error(f"{path}: not a .glb or .gltf file")
+        raise UserError(f"{path}: not a .glb or .gltf file")
     out = Path(args.out) if args.out else path.with_name(path.stem + ".asset.json")
     client = None
     if args.model:
@@ -366,13 +367,13 @@ def annotate_command(args: Any, user_error: type[Exception]) -> int:
             client = ChatClient(args.llm_base_url, model=args.model, timeout=args.timeout, max_retries=args.retries,
                                 backoff=1.0, max_backoff=10.0)
         except ValueError as err:
-            raise user_error(str(err)) from None
+            raise UserError(str(err)) from None
     elif args.llm_base_url:
-        raise user_error("--llm-base-url needs --model (the VLM's name)")
+        raise UserError("--llm-base-url needs --model (the VLM's name)")
     try:
         annotation = annotate_asset(path, client, args.cache_dir or default_cache_dir())
     except LLMError as err:
-        raise user_error(str(err)) from None
+        raise UserError(str(err)) from None
     # The source as seen from the annotation's folder, so that the pair can move together.
     source = os.path.relpath(path.resolve(), out.resolve().parent)
     write_annotation(annotation.model_copy(update={"source": source}), out)
@@ -388,15 +389,15 @@ def annotate_command(args: Any, user_error: type[Exception]) -> int:
     return 0
 
 
-def register_annotation_files(paths: list[str] | None, user_error: type[Exception]) -> list[str]:
+def register_annotation_files(paths: list[str] | None) -> list[str]:
     """``--asset FILE.asset.json`` of the CLI: register each annotated asset; a file that is
-    not an annotation raises ``user_error`` naming it."""
+    not an annotation raises :class:`~legent_gym.errors.UserError` naming it."""
     ids = []
     for path in paths or []:
         try:
             ids.append(register_annotation(path, replace=True))
         except OSError as err:
-            raise user_error(f"{path}: {err.strerror or err}") from None
+            raise UserError(f"{path}: {err.strerror or err}") from None
         except ValidationError as err:
-            raise user_error(f"{path}: not an asset annotation: {describe_error(err)}") from None
+            raise UserError(f"{path}: not an asset annotation: {describe_error(err)}") from None
     return ids

@@ -15,6 +15,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from legent_gym.errors import UserError
 from legent_gym.llm.client import ChatClient, LLMError, describe_error
 from legent_gym.llm.prompts import scene_plan_messages
 from legent_gym.utils.atomic import atomic_write_text
@@ -34,37 +35,37 @@ def plan_path_for(out: str | Path) -> Path:
     return out.with_name(out.name.removesuffix(".json") + ".plan.json")
 
 
-def generate_scene(args: Any, user_error: type[Exception]) -> int:
+def generate_scene(args: Any) -> int:
     """``legent-gym generate --plan FILE`` or ``--prompt TEXT`` (``args`` from the CLI);
-    problems a user can cause raise ``user_error`` with one line."""
+    problems a user can cause raise :class:`~legent_gym.errors.UserError` with one line."""
     if args.plan and args.prompt:
-        raise user_error("give --plan FILE or --prompt TEXT, not both")
+        raise UserError("give --plan FILE or --prompt TEXT, not both")
     if args.out is None:
-        raise user_error("give --out FILE.json")
+        raise UserError("give --out FILE.json")
     if args.count != 1 or args.out_dir is not None:
-        raise user_error("--plan and --prompt make one house: no --count or --out-dir")
+        raise UserError("--plan and --prompt make one house: no --count or --out-dir")
     if args.plan:
         try:
             data = json.loads(Path(args.plan).read_text(encoding="utf-8"))
         except OSError as err:
-            raise user_error(f"{args.plan}: {err.strerror or err}") from None
+            raise UserError(f"{args.plan}: {err.strerror or err}") from None
         except (json.JSONDecodeError, UnicodeDecodeError) as err:
-            raise user_error(f"{args.plan}: not JSON: {err}") from None
+            raise UserError(f"{args.plan}: not JSON: {err}") from None
         try:
             plan = load_plan(data)
         except ValidationError as err:
-            raise user_error(f"{args.plan}: not a valid plan: {describe_error(err)}") from None
+            raise UserError(f"{args.plan}: not a valid plan: {describe_error(err)}") from None
     else:
         if not args.prompt.strip():
-            raise user_error("--prompt is empty")
+            raise UserError("--prompt is empty")
         if not args.model:
-            raise user_error("--prompt needs --model (and --llm-base-url or $OPENAI_BASE_URL)")
+            raise UserError("--prompt needs --model (and --llm-base-url or $OPENAI_BASE_URL)")
         try:
             client = ChatClient(args.llm_base_url, model=args.model, timeout=args.timeout, max_retries=args.retries,
                                 backoff=1.0, max_backoff=10.0)
             plan, _ = plan_from_prompt(client, args.prompt)
         except (LLMError, ValueError) as err:
-            raise user_error(str(err)) from None
+            raise UserError(str(err)) from None
     solved = solve_plan(plan, args.seed)
     for line in solved.report.lines():
         print(line)

@@ -39,6 +39,7 @@ from typing import Any
 from pydantic import BaseModel, Field, ValidationError
 
 from legent_gym.envs.household import HouseholdEnv
+from legent_gym.errors import UserError
 from legent_gym.experts import Expert, PlanningError, ProgramExecutor
 from legent_gym.experts.program import ProgramError, check_program, parse_program
 from legent_gym.llm.client import ChatClient, LLMError, describe_error
@@ -239,13 +240,13 @@ def check_tasks(scene: Any, drafts: list[Any], *, header: dict[str, Any] | None 
     return outcome
 
 
-def generate_tasks(args: Any, user_error: type[Exception]) -> int:
+def generate_tasks(args: Any) -> int:
     """``legent-gym tasks generate`` (``args`` from the CLI); problems a user can cause raise
-    ``user_error`` with one line."""
+    :class:`~legent_gym.errors.UserError` with one line."""
     if not 1 <= args.n <= MAX_TASKS:
-        raise user_error(f"--n must be between 1 and {MAX_TASKS}, got {args.n}")
+        raise UserError(f"--n must be between 1 and {MAX_TASKS}, got {args.n}")
     if not args.model:
-        raise user_error("tasks generate needs --model (and --llm-base-url or $OPENAI_BASE_URL)")
+        raise UserError("tasks generate needs --model (and --llm-base-url or $OPENAI_BASE_URL)")
     scene = load_scene(args.scene)
     started = time.perf_counter()
     # The object table is read in the built house (names, centres where they rest).
@@ -262,7 +263,7 @@ def generate_tasks(args: Any, user_error: type[Exception]) -> int:
                             backoff=1.0, max_backoff=10.0)
         reply, _ = client.complete_model(messages, TaskReply, max_tokens=8192)
     except (LLMError, ValueError) as err:
-        raise user_error(str(err)) from None
+        raise UserError(str(err)) from None
     drafts = reply.tasks[:args.n]
     outcome = check_tasks(scene, drafts, header={"prompt_version": TASK_PROMPT_VERSION, "model": args.model})
     for record in outcome.rejected:
