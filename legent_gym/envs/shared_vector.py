@@ -26,24 +26,28 @@ worker process and costs the calling process little per env-step:
   whole batch (NumPy arrays; text as Unicode code points, as
   :class:`~legent_gym.envs.text_space.VectorSafeText` does), with the rewards, terminations
   and truncations; nothing of an observation is pickled;
-* each worker signals the end of a step with one message on its pipe that carries only the
-  ``info`` entries that changed since its previous message (the key structure and types
-  are sent again only when they change); this process keeps each env's latest info and
-  builds the batched info a key at a time (Gymnasium's ``_add_info`` layout: ``info[k]``
-  an array over envs, ``info["_k"]`` its mask);
+* commands and replies pass through per-worker slots of shared memory (see
+  :class:`_Channel`): this process wakes one worker per batch (the wake-up passes down a
+  tree of workers) and is woken once, by the worker whose reply completes the batch;
+* a worker's reply carries only the ``info`` entries that changed since its previous one
+  (the key structure and types again only when they change); this process keeps every
+  env's latest info, per kind of leaf in one block, and a batch's info is a copy per kind
+  (Gymnasium's ``_add_info`` layout: ``info[k]`` an array over envs, ``info["_k"]`` its
+  mask; ``lazy_infos=True`` builds it only when read);
 * the autoreset happens in the worker;
 * an exception in a worker's env is raised here as :class:`WorkerError`, naming the worker
   and carrying its traceback; a worker that dies raises it too, with its exit code;
 * :meth:`SharedMemoryVectorEnv.send` / :meth:`~SharedMemoryVectorEnv.recv` (with
   ``batch_size``) step EnvPool's way: ``recv()`` returns the first envs done;
-* ``close()`` ends the workers and frees the shared memory (an unlinked file: nothing is
-  left in ``/dev/shm`` even if this process is killed); workers also end by themselves
-  when this process goes.
+* ``close()`` ends the workers and frees the shared memory (an unlinked file, and
+  semaphores whose names are removed once the workers opened them: nothing is left in
+  ``/dev/shm`` even if this process is killed); workers also end by themselves when this
+  process goes.
 
 Observation spaces of ``Box``, ``Discrete``, ``MultiBinary``, ``MultiDiscrete`` and
 ``Text`` leaves, nested in ``Dict`` and ``Tuple``, are supported (all the envs' spaces); the
 class may be made directly, with an env id, the env's keyword arguments and its own
-options (``copy``, ``lazy_infos``; these two also through ``make_vec``)::
+options (``copy``, ``lazy_infos``, ``batch_size``; also through ``make_vec``)::
 
     from legent_gym.envs.shared_vector import SharedMemoryVectorEnv
 
