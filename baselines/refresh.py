@@ -31,24 +31,21 @@ from pathlib import Path
 if __package__ in (None, ""):  # run as a script: make `baselines` importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from baselines.figures import (  # noqa: E402
-    FIGURES,
+from baselines.figure_data import (  # noqa: E402
     MEASURED_CODE,
     Figure,
     FigureError,
-    adopt,
     data_path,
-    figure,
     load,
     measure,
     moved,
-    outdated,
     provenance,
     refresh_docs,
     render,
     stale_blocks,
     write,
 )
+from baselines.figures import FIGURES, adopt, figure, outdated  # noqa: E402
 
 
 def derived_from_data(chosen: list[Figure]) -> list[Figure]:

@@ -8,14 +8,15 @@ from pathlib import Path
 
 import pytest
 
-from baselines import figures
-from baselines.figures import FIGURES, FigureError, blocks, load, render, rewrite, stale_blocks
+from baselines import figure_data, figures
+from baselines.figure_data import FigureError, blocks, load, render, rewrite, stale_blocks
+from baselines.figures import FIGURES
 from baselines.refresh import main as refresh_main
 
 
 def _doc_blocks():
-    return [(path, name) for path in figures.DOC_FILES
-            for name, _ in blocks((figures.ROOT / path).read_text())]
+    return [(path, name) for path in figure_data.DOC_FILES
+            for name, _ in blocks((figure_data.ROOT / path).read_text())]
 
 
 def test_every_doc_block_is_its_data_file():
@@ -36,7 +37,7 @@ def test_every_figure_is_in_the_docs_and_has_a_data_file():
 
 
 def test_a_figure_edited_by_hand_is_caught(tmp_path):
-    path = figures.ROOT / "docs" / "results.md"
+    path = figure_data.ROOT / "docs" / "results.md"
     text = path.read_text()
     name, body = next((n, b) for n, b in blocks(text) if n == "random-policy")
     value = f"{load(name)['rows'][0][1]:.2f}"
@@ -50,10 +51,10 @@ def test_a_figure_edited_by_hand_is_caught(tmp_path):
 
 def test_a_quoted_value_edited_by_hand_is_caught(tmp_path):
     """A number in the prose that quotes a figure is checked and rewritten like a table."""
-    path = figures.ROOT / "docs" / "results.md"
+    path = figure_data.ROOT / "docs" / "results.md"
     text = path.read_text()
-    match = next(m for m in figures.VALUE.finditer(text) if m["spec"].startswith("table-full |"))
-    assert match["text"] == figures.quoted_value(match["spec"])
+    match = next(m for m in figure_data.VALUE.finditer(text) if m["spec"].startswith("table-full |"))
+    assert match["text"] == figure_data.quoted_value(match["spec"])
     edited = text[:match.start("text")] + "0.99" + text[match.end("text"):]
     copy = tmp_path / "results.md"
     copy.write_text(edited)
@@ -62,20 +63,20 @@ def test_a_quoted_value_edited_by_hand_is_caught(tmp_path):
 
 
 def test_quoted_values_name_what_is_wrong():
-    assert figures.quoted_value("random-policy | Legent/ComeHere-OneRoom-v0 | success (100 episodes)") == \
+    assert figure_data.quoted_value("random-policy | Legent/ComeHere-OneRoom-v0 | success (100 episodes)") == \
         f"{load('random-policy')['rows'][0][1]:.2f}"
-    assert figures.quoted_value("random-policy | @ | commit") == load("random-policy")["commit"][:7]
+    assert figure_data.quoted_value("random-policy | @ | commit") == load("random-policy")["commit"][:7]
     for spec, message in [("random-policy | Legent/ComeHere-OneRoom-v0 | no such column", "no column"),
                           ("random-policy | no such row | mean actions", "0 rows named"),
                           ("random-policy | @ | machine", "commit or wall_seconds"),
                           ("random-policy | one part", "expected"),
                           ("no-such-figure | a | b", "no data file")]:
         with pytest.raises(FigureError, match=message):
-            figures.quoted_value(spec)
+            figure_data.quoted_value(spec)
 
 
 def test_a_block_without_a_data_file_is_named(tmp_path, monkeypatch):
-    monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
+    monkeypatch.setattr(figure_data, "FIGURE_DIR", tmp_path)
     with pytest.raises(FigureError, match="random-policy.*baselines.refresh --only random-policy"):
         load("random-policy")
     (tmp_path / "random-policy.json").write_text("{not json")
@@ -87,24 +88,24 @@ def test_moved_reports_changes_beyond_the_standard_error():
     old = {"name": "f", "columns": ["env", "rate"], "rows": [["a", 0.40], ["b", 0.30]], "stderr": [[None, 0.05]] * 2}
     new = json.loads(json.dumps(old))
     new["rows"] = [["a", 0.43], ["b", 0.20]]
-    assert figures.moved(old, new) == ["f: b / rate: 0.3 -> 0.2 (standard error 0.050)"]
+    assert figure_data.moved(old, new) == ["f: b / rate: 0.3 -> 0.2 (standard error 0.050)"]
 
 
 def test_the_code_changed_since_a_figure_was_measured_is_named(tmp_path, monkeypatch):
     """`--list-outdated` names a figure measured before a change to the package, with the files
     changed; one measured at HEAD is current; a commit the clone does not hold is an error
     that names it."""
-    assert figures.code_changed_since("HEAD") == []
+    assert figure_data.code_changed_since("HEAD") == []
     # bd825a4 changed legent_gym/world/render.py: a figure measured at its parent is outdated.
-    assert "legent_gym/world/render.py" in figures.code_changed_since("bd825a4^")
+    assert "legent_gym/world/render.py" in figure_data.code_changed_since("bd825a4^")
     with pytest.raises(FigureError, match="commit 0000000 is not in this clone's history"):
-        figures.code_changed_since("0" * 40)
+        figure_data.code_changed_since("0" * 40)
 
-    monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
-    head = figures._git("rev-parse", "HEAD")
-    old = figures._git("rev-parse", "bd825a4^")
+    monkeypatch.setattr(figure_data, "FIGURE_DIR", tmp_path)
+    head = figure_data.git("rev-parse", "HEAD")
+    old = figure_data.git("rev-parse", "bd825a4^")
     for name, commit in (("random-policy", head), ("expert-success", old)):
-        (tmp_path / f"{name}.json").write_text(json.dumps({"format": figures.FORMAT_VERSION, "name": name,
+        (tmp_path / f"{name}.json").write_text(json.dumps({"format": figure_data.FORMAT_VERSION, "name": name,
                                                            "commit": commit, "dirty": False}))
     found = figures.outdated()
     assert [(name, commit) for name, commit, _ in found] == [("expert-success", old)]
@@ -112,9 +113,9 @@ def test_the_code_changed_since_a_figure_was_measured_is_named(tmp_path, monkeyp
 
 
 def test_list_outdated_prints_each_figure_and_its_changes(tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
-    old = figures._git("rev-parse", "bd825a4^")
-    (tmp_path / "expert-success.json").write_text(json.dumps({"format": figures.FORMAT_VERSION, "name":
+    monkeypatch.setattr(figure_data, "FIGURE_DIR", tmp_path)
+    old = figure_data.git("rev-parse", "bd825a4^")
+    (tmp_path / "expert-success.json").write_text(json.dumps({"format": figure_data.FORMAT_VERSION, "name":
                                                               "expert-success", "commit": old, "dirty": True}))
     assert refresh_main(["--list-outdated"]) == 0
     line = capsys.readouterr().out.strip()
@@ -149,7 +150,7 @@ def test_render_says_where_the_figure_comes_from():
 
 
 def test_the_machine_names_its_vector_instruction_set():
-    described = figures.machine()
+    described = figure_data.machine()
     assert described["cores"] >= 1 and described["cpu"]
     lines = Path("/proc/cpuinfo").read_text().splitlines()
     flags = next((line for line in lines if line.startswith("flags")), "").split()
@@ -162,14 +163,14 @@ def test_an_adopted_typed_table_is_the_doc_at_its_commit(name):
     """A table adopted from a doc (and not measured since) is, cell for cell, the table that
     doc held at the commit the data names (its provenance is the history, nothing typed since)."""
     data = load(name)
-    text = figures._git("show", f"{data['commit']}:{data['typed']}")
+    text = figure_data.git("show", f"{data['commit']}:{data['typed']}")
     if not text:
         pytest.skip("no git history here")
-    columns, align, rows = figures.typed_table(text, data["typed_line"])
+    columns, align, rows = figure_data.typed_table(text, data["typed_line"])
     assert (columns, align, rows) == (data["columns"], data["align"], data["rows"])
     if FIGURES[name].produce is None:  # no one command measures it again
         with pytest.raises(FigureError, match="adopt"):
-            figures.measure(FIGURES[name])
+            figure_data.measure(FIGURES[name])
 
 
 @pytest.mark.parametrize(("name", "results", "row", "runs"), [
@@ -183,7 +184,7 @@ def test_an_adopted_typed_table_is_the_doc_at_its_commit(name):
 def test_typed_ablation_rows_are_their_runs_results(name, results, row, runs):
     """Where the runs kept their episodes (docs/data/<results>/results.json), the typed rates
     are those runs' rates over seeds 0-99 / 0-299."""
-    kept = json.loads((figures.ROOT / "docs" / "data" / results / "results.json").read_text())
+    kept = json.loads((figure_data.ROOT / "docs" / "data" / results / "results.json").read_text())
     cells = []
     for run in runs:
         key, env_id = run.split("/", 1)
@@ -244,6 +245,7 @@ def test_the_full_scale_cost_lists_what_scale_full_measures():
 def test_the_dagger_seeds_figure_names_the_run_it_needs(tmp_path, monkeypatch):
     """Measured from the models the DAgger table's run left; without them, it says which run to make first."""
     monkeypatch.setattr(figures, "ROOT", tmp_path)
+    monkeypatch.setattr(figure_data, "ROOT", tmp_path)  # where its error message is relative to
     with pytest.raises(FigureError, match="no model runs/table_full_p25_scan/models/sep10000-.*"
                                           "--only table-full-p25-scan-dagger` first"):
         FIGURES["dagger-more-seeds"].produce()
@@ -253,12 +255,12 @@ def test_outdated_measures_only_the_figures_whose_code_changed(tmp_path, monkeyp
     """`--only A,B --outdated` measures B (measured before a change) and not A (measured at HEAD)."""
     import baselines.refresh as refresh
 
-    monkeypatch.setattr(figures, "FIGURE_DIR", tmp_path)
+    monkeypatch.setattr(figure_data, "FIGURE_DIR", tmp_path)
     monkeypatch.setattr(refresh, "refresh_docs", lambda: [])  # the docs name figures this folder lacks
     monkeypatch.setattr(refresh, "measure", lambda fig, origin: {**load(fig.name), "wall_seconds": 0.0})
     for name, commit in (("random-policy", "HEAD"), ("expert-success", "bd825a4^")):
         (tmp_path / f"{name}.json").write_text(json.dumps({
-            "format": figures.FORMAT_VERSION, "name": name, "commit": figures._git("rev-parse", commit),
+            "format": figure_data.FORMAT_VERSION, "name": name, "commit": figure_data.git("rev-parse", commit),
             "dirty": False, "columns": ["a"], "rows": [[1]]}))
     assert refresh_main(["--only", "random-policy,expert-success", "--outdated"]) == 0
     err = capsys.readouterr().err
