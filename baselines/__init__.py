@@ -7,7 +7,8 @@
 * :mod:`baselines.ppo_comehere`: stable-baselines3 PPO on ComeHere with a learning curve;
 * :mod:`baselines.figures` and :mod:`baselines.refresh`: the docs' tables of measured
   numbers as data files (``docs/data/figures/``), measured again and rewritten by
-  ``python -m baselines.refresh``.
+  ``python -m baselines.refresh``; :mod:`baselines.figure_data` is the machinery they share
+  (tables, data files, doc blocks).
 
 Results and the commands that produced them: ``docs/results.md``.
 """
