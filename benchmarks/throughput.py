@@ -127,7 +127,8 @@ def _configs() -> dict[str, dict]:
         row["label"] += ", helpers=H"
         rows[f"{base}-helpers"] = row
     for n in (1, 2, 8):
-        rows.update({name: vector_config(name) for name in (f"vec{n}", f"vec{n}-eph8", f"svec{n}", f"svec{n}-eph8")})
+        rows.update({name: vector_config(name) for name in (f"vec{n}", f"vec{n}-eph8", f"svec{n}")})
+    rows["svec8-lazy"] = vector_config("svec8-lazy")  # other svec rows (-eph8, -pool) by name
     rows["vec2-inline"] = {"kind": "vector", "env_id": LEGENT_IDS["OneRoom"], "num_envs": 2,
                            "label": "make_vec ComeHere-OneRoom, async, N=2, prepare_ahead=False",
                            "kwargs": {"prepare_ahead": False}}
