@@ -96,6 +96,7 @@ ALIGN = 64
 # Commands (this process -> worker) and replies (worker -> this process): one byte, then a
 # pickled payload where there is one.
 _STEP, _RESET, _CALL, _SETATTR, _CLOSE = b"s", b"r", b"c", b"a", b"x"
+_STEP_TEXT = b"t"  # a step whose action is a str, sent as UTF-8 (no pickling)
 _DONE, _VALUE, _ERROR = 0x6F, 0x76, 0x65  # "o", "v", "e" as the first byte of a reply
 _DONE_NO_INFO = b"o"
 _PICKLE = pickle.HIGHEST_PROTOCOL
@@ -707,10 +708,6 @@ class _Channel:
         """Wake worker ``i`` again (its parent in the tree died before passing the wake-up on)."""
         self.go[i].release()
 
-    def fetch(self, i: int, conn: Any) -> bytes:
-        stride = self.command_size + self.reply_size
-        return self._get(i * stride + self.command_size, _HEADER * i + 3, conn)
-
     def replies_in(self) -> int:
         """Replies that have come and were not taken."""
         counts = self.views[2]
@@ -802,13 +799,14 @@ def _worker(index: int, env_id: str, kwargs: dict, conn: multiprocessing.connect
                 break
             command, payload = message[:1], message[1:]
             try:
-                if command == _STEP:
+                if command in (_STEP, _STEP_TEXT):
                     if autoreset:
                         obs, step_info = env.reset()
                         reward: Any = 0.0
                         terminated, truncated = False, False
                     else:
-                        obs, reward, terminated, truncated, step_info = env.step(pickle.loads(payload))
+                        action = payload.decode() if command == _STEP_TEXT else pickle.loads(payload)
+                        obs, reward, terminated, truncated, step_info = env.step(action)
                     autoreset = bool(terminated or truncated)
                     write(obs, reward, terminated, truncated)
                     reply(_DONE_NO_INFO + info.message(step_info))
@@ -839,7 +837,16 @@ def _worker(index: int, env_id: str, kwargs: dict, conn: multiprocessing.connect
         conn.close()
 
 
-_COMMANDS = {_STEP: "step", _RESET: "reset", _CALL: "call", _SETATTR: "set_attr", _CLOSE: "close"}
+_COMMANDS = {_STEP: "step", _STEP_TEXT: "step", _RESET: "reset", _CALL: "call", _SETATTR: "set_attr", _CLOSE: "close"}
+
+
+def _step_message(action: Any) -> bytes:
+    if type(action) is str:
+        try:
+            return _STEP_TEXT + action.encode()
+        except UnicodeEncodeError:  # lone surrogates: pickled as they are
+            pass
+    return _STEP + pickle.dumps(action, _PICKLE)
 
 
 def _failure(err: BaseException, doing: str) -> tuple[str, str, str, str]:
@@ -971,8 +978,7 @@ class SharedMemoryVectorEnv(VectorEnv):
 
     def step(self, actions: Any) -> tuple[Any, np.ndarray, np.ndarray, np.ndarray, dict[str, Any]]:
         self._check_usable(idle=True)
-        dumps = pickle.dumps
-        messages = [_STEP + dumps(action, _PICKLE) for action in iterate(self.action_space, actions)]
+        messages = [_step_message(action) for action in iterate(self.action_space, actions)]
         if len(messages) != self.num_envs:
             raise ValueError(f"{len(messages)} actions for {self.num_envs} envs")
         self._command(dict(enumerate(messages)), "step")
@@ -997,7 +1003,7 @@ class SharedMemoryVectorEnv(VectorEnv):
         episode ended resets it."""
         self._check_usable()
         ids = list(range(self.num_envs)) if env_ids is None else [int(i) for i in np.asarray(env_ids).ravel()]
-        messages = [_STEP + pickle.dumps(action, _PICKLE) for action in iterate(self.action_space, actions)]
+        messages = [_step_message(action) for action in iterate(self.action_space, actions)]
         if len(messages) != len(ids):
             raise ValueError(f"{len(messages)} actions for {len(ids)} env ids")
         self._send_async(dict(zip(ids, messages, strict=True)))
@@ -1164,18 +1170,26 @@ class SharedMemoryVectorEnv(VectorEnv):
         errors: list[tuple[int, str]] = []
         infos = self._infos
         channel, conns, dead = self._channel, self._conns, self._dead
+        memory, headers, _ = channel.views
+        stride, first = channel.command_size + channel.reply_size, channel.command_size
         for i in envs:
             if i in dead:
                 errors.append((i, self._died(i, doing)))
                 continue
-            try:
-                reply = channel.fetch(i, conns[i])
-            except (EOFError, OSError) as err:
-                errors.append((i, self._died(i, doing, err)))
-                continue
+            header = _HEADER * i + 3
+            if headers[header + 1]:  # in the pipe
+                try:
+                    reply = conns[i].recv_bytes()
+                except (EOFError, OSError) as err:
+                    errors.append((i, self._died(i, doing, err)))
+                    continue
+            else:
+                at = i * stride + first
+                reply = memory[at:at + headers[header]].tobytes()
             kind = reply[0]
             if kind == _DONE:
-                infos.update(i, memoryview(reply)[1:])
+                if len(reply) > 1:
+                    infos.update(i, memoryview(reply)[1:])
             elif kind == _VALUE:
                 values.append(pickle.loads(memoryview(reply)[1:]))
             else:
