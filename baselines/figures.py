@@ -40,13 +40,17 @@ This module defines the figures (:data:`FIGURES`, their producers, :func:`adopt`
 
 from __future__ import annotations
 
+import csv
 import functools
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -117,6 +121,7 @@ RANDOM_ENVS = ("Legent/ComeHere-OneRoom-v0", "Legent/ComeHere-TwoRoom-v0")
 def random_policy() -> Table:
     """docs/results.md, "Random policy": ``baselines/evaluate.py --policy random``, 100
     episodes from seed 0, for each ComeHere id (the command's own code path)."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.vla.evaluate import evaluate_many, success_rate
 
     results = evaluate_many([("random", env_id) for env_id in RANDOM_ENVS], 100, 0, {}, workers=1)
@@ -134,6 +139,7 @@ def random_policy() -> Table:
 def expert_success() -> Table:
     """docs/experts.md, "Measured" (the quick version): the task expert on seeds 0-5 of
     every registered id, text actions, 32x32 images."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.vla.evaluate import evaluate_many
     from legent_gym.envs.registration import ENV_IDS
 
@@ -154,6 +160,7 @@ EXPERT_SEEDS = 200
 def expert_200_seeds() -> Table:
     """docs/experts.md, "Measured": the task expert on seeds 0-199 of every registered id,
     text actions, 32x32 images, the 25-action cap (the evaluator's code path)."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.vla.evaluate import evaluate_many
     from legent_gym.envs.registration import ENV_IDS
 
@@ -180,6 +187,7 @@ def expert_takeover() -> Table:
     expert; how often it succeeds where success was still possible (the episode not ended by
     the random actions): :func:`baselines.evaluate.expert_takeover`, which
     ``tests/test_expert_wrappers.py`` also runs."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.evaluate import expert_takeover as takeover
 
     rows = []
@@ -193,6 +201,7 @@ def ppo_random_floor() -> Table:
     """docs/results.md, PPO's final evaluation: its random row on the current code (the
     random policy on the evaluation's seeds, env and camera, as ``ppo_comehere.final_evaluation``
     runs it)."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.evaluate import RandomPolicy, run_episodes
     from baselines.ppo_comehere import EVAL_SEED_OFFSET, Config
 
@@ -212,6 +221,7 @@ SCAN_ENVS = ("Legent/WhereIs-OneRoom-v0", "Legent/WhereIs-TwoRoom-v0", "Legent/W
 def expert_scan() -> Table:
     """docs/experts.md, ``find(a)`` strategies: the Where Is expert with ``direct`` (LEGENT's)
     and ``scan`` on seeds 0-99 of each layout, text actions, 32x32 images."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.evaluate import ExpertBaseline, run_episodes
     from legent_gym.experts import Expert
 
@@ -244,6 +254,7 @@ FIGURES: dict[str, Figure] = {f.name: f for f in (
 # -- the paper's table, from reproduce_table.py runs ---------------------------------------------
 def vla_table(results: dict[str, Any]) -> Table:
     """The paper's Table 3 beside a ``reproduce_table.py`` run's ``results.json``."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.reproduce_table import COLUMNS, EVAL_TASKS, PAPER_ROWS, PAPER_WHERE_IS_NOTE
 
     episodes = len(next(iter(next(iter(results["episodes"].values())).values())))
@@ -271,7 +282,6 @@ def rerun_table(folder: str, args: Sequence[str], out_folder: str | None = None)
     """Run ``reproduce_table.py`` with ``args`` into ``runs/<out_folder>`` (default: ``folder``;
     the run resumes what is there), keep its outputs in ``docs/data/<folder>/`` (its chart as
     ``docs/images/<folder>.png``) and give its table."""
-    import shutil
 
     out = ROOT / "runs" / (out_folder or folder)
     subprocess.run([sys.executable, str(ROOT / "baselines" / "reproduce_table.py"), *args, "--out", str(out)],
@@ -344,7 +354,6 @@ SMALL_TABLE_ARGS = ("--scale", "small")
 def small_table() -> Table:
     """docs/results.md, scale ``small``: ``reproduce_table.py --scale small`` end to end (data,
     seven trainings, evaluation) in a scratch folder; deterministic, so the default tests rerun it."""
-    import tempfile
 
     with tempfile.TemporaryDirectory() as scratch:
         subprocess.run([sys.executable, str(ROOT / "baselines" / "reproduce_table.py"), *SMALL_TABLE_ARGS,
@@ -447,8 +456,6 @@ def ppo_curve_table(rows: list[dict[str, str]]) -> Table:
 
 def ppo_curve() -> Table:
     """docs/results.md, PPO's learning curve: ``baselines/ppo_comehere.py`` (250k steps)."""
-    import csv
-    from dataclasses import replace
 
     with (ppo_run() / "ppo_curve.csv").open() as fh:
         table = ppo_curve_table(list(csv.DictReader(fh)))
@@ -682,7 +689,6 @@ FIGURES["throughput"] = Figure("throughput", "python benchmarks/throughput.py " 
 
 def benchmark(script: str, args: Sequence[str]) -> dict[str, Any]:
     """Run ``benchmarks/<script>`` with ``args`` and ``--json``; its report."""
-    import tempfile
 
     with tempfile.TemporaryDirectory() as scratch:
         out = Path(scratch) / "report.json"
@@ -793,6 +799,7 @@ def dagger_more_seeds() -> Table:
     DAgger models trained from them, each on the task it was trained for, over reset seeds
     0-299 (greedy decoding). Reads the models that ``table-full-p25-scan-dagger`` left in its
     run folder, so it is measured after that figure."""
+    # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.reproduce_table import (
         COLUMNS,
         EVAL_TASKS,
