@@ -98,7 +98,7 @@ ALIGN = 64
 _STEP, _RESET, _CALL, _SETATTR, _CLOSE = b"s", b"r", b"c", b"a", b"x"
 _STEP_TEXT = b"t"  # a step whose action is a str, sent as UTF-8 (no pickling)
 _DONE, _VALUE, _ERROR = 0x6F, 0x76, 0x65  # "o", "v", "e" as the first byte of a reply
-_DONE_NO_INFO = b"o"
+_DONE_BYTE = b"o"
 _PICKLE = pickle.HIGHEST_PROTOCOL
 
 
@@ -809,13 +809,13 @@ def _worker(index: int, env_id: str, kwargs: dict, conn: multiprocessing.connect
                         obs, reward, terminated, truncated, step_info = env.step(action)
                     autoreset = bool(terminated or truncated)
                     write(obs, reward, terminated, truncated)
-                    reply(_DONE_NO_INFO + info.message(step_info))
+                    reply(_DONE_BYTE + info.message(step_info))
                 elif command == _RESET:
                     seed, options = pickle.loads(payload)
                     obs, reset_info = env.reset(seed=seed, options=options)
                     autoreset = False
                     write(obs, 0.0, False, False)
-                    reply(_DONE_NO_INFO + info.message(reset_info))
+                    reply(_DONE_BYTE + info.message(reset_info))
                 elif command == _CALL:
                     name, args, call_kwargs = pickle.loads(payload)
                     attr = env.get_wrapper_attr(name)
