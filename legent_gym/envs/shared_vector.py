@@ -40,9 +40,9 @@ worker process and costs the calling process little per env-step:
 * :meth:`SharedMemoryVectorEnv.send` / :meth:`~SharedMemoryVectorEnv.recv` (with
   ``batch_size``) step EnvPool's way: ``recv()`` returns the first envs done;
 * ``close()`` ends the workers and frees the shared memory (an unlinked file, and
-  semaphores whose names are removed once the workers opened them: nothing is left in
-  ``/dev/shm`` even if this process is killed); workers also end by themselves when this
-  process goes.
+  named semaphores that ``multiprocessing`` unlinks when they are freed, or its resource
+  tracker when this process is killed: nothing is left in ``/dev/shm``); workers also end
+  by themselves when this process goes.
 
 Observation spaces of ``Box``, ``Discrete``, ``MultiBinary``, ``MultiDiscrete`` and
 ``Text`` leaves, nested in ``Dict`` and ``Tuple``, are supported (all the envs' spaces); the
@@ -616,23 +616,6 @@ class _Channel:
     def __getstate__(self) -> dict:
         return {**self.__dict__, "_views": None}
 
-    def unlink(self) -> None:
-        """Remove the semaphores' names (``/dev/shm/sem.mp-*``) once every worker has opened
-        them: the semaphores live on while open, and nothing is left behind even if this
-        process is killed. (``multiprocessing`` would remove them when they are garbage
-        collected or at exit: its finalizers are cancelled so they do not try again.)"""
-        from multiprocessing import resource_tracker, util
-        from multiprocessing.synchronize import sem_unlink  # type: ignore[attr-defined]
-
-        names = {sem._semlock.name for sem in (*self.go, self.lock, self.all_in)} - {None}
-        for finalizer in list(util._finalizer_registry.values()):  # type: ignore[attr-defined]
-            if finalizer._args and finalizer._args[0] in names:
-                finalizer.cancel()
-        for name in names:
-            with contextlib.suppress(FileNotFoundError):
-                sem_unlink(name)
-            resource_tracker.unregister(name, "semaphore")
-
     @property
     def views(self) -> tuple[memoryview, memoryview, memoryview]:
         """The slots' bytes, the headers' and the counts' integers as memoryviews (cheaper
@@ -946,7 +929,6 @@ class SharedMemoryVectorEnv(VectorEnv):
                 self._processes.append(process)
                 self._conns.append(parent)
             self._receive(range(num_envs), "making its env")
-            self._channel.unlink()
         except BaseException:
             self.close(terminate=True)
             raise
@@ -1202,13 +1184,17 @@ class SharedMemoryVectorEnv(VectorEnv):
             raise WorkerError(message, i)
         return values
 
+    def worker_pids(self) -> list[int]:
+        """The workers' process ids (for tests and monitoring)."""
+        return [p.pid for p in self._processes if p.pid is not None]
+
     def __repr__(self) -> str:
         return f"SharedMemoryVectorEnv({self.env_id!r}, num_envs={self.num_envs})"
 
 
 def worker_pids(envs: SharedMemoryVectorEnv) -> list[int]:
     """The workers' process ids (for tests and monitoring)."""
-    return [p.pid for p in envs._processes if p.pid is not None]
+    return envs.worker_pids()
 
 
 if os.name != "posix":  # pragma: no cover
