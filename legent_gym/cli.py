@@ -37,6 +37,7 @@ from legent_gym.llm.scene_from_text import generate_scene
 from legent_gym.llm.task_generation import generate_tasks
 from legent_gym.play.command import add_arguments as add_play_arguments
 from legent_gym.play.command import run as run_play
+from legent_gym.utils import gl_backend
 from legent_gym.utils.atomic import atomic_write_bytes
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.gltf import AssetImportError, load_gltf
@@ -79,6 +80,12 @@ def _write_png(path: str, image) -> None:
 def cmd_validate(args) -> int:
     scene = load_scene(args.scene)
     print(f"{args.scene}: valid ({len(scene.rooms)} rooms, {len(scene.objects)} objects, {len(scene.doors)} doors)")
+    return 0
+
+
+def cmd_gl_info(args) -> int:
+    for key, value in gl_backend.describe().items():
+        print(f"{key}: {value}")
     return 0
 
 
@@ -231,6 +238,10 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("validate", parents=[common], help="check a scene file")
     p.add_argument("scene")
     p.set_defaults(func=cmd_validate)
+
+    p = sub.add_parser("gl-info", parents=[common], help="what renders here: the OpenGL backend, the EGL device "
+                       "and the vendor and renderer of a context (an NVIDIA GPU or Mesa's llvmpipe on the CPU)")
+    p.set_defaults(func=cmd_gl_info)
 
     p = sub.add_parser("render", parents=[common], help="render a scene to PNG")
     p.add_argument("scene")

@@ -14,6 +14,7 @@ import shutil
 import subprocess
 import sys
 from collections.abc import Iterator
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -110,3 +111,57 @@ def test_on_a_real_display_mujoco_renders_through_glfw_and_mujoco_gl_still_wins(
         assert np.abs(np.array(chosen["rgb"], dtype=np.int16) - egl_frame).mean() < 1.0
         chosen, _ = probe(DISPLAY=display, MUJOCO_GL="egl")
         assert chosen["MUJOCO_GL"] == "egl" and chosen["context"] == "mujoco.egl"
+
+
+# -- GPUs for vector env workers ------------------------------------------------------------
+
+def test_workers_are_spread_over_the_gpus_round_robin():
+    from legent_gym.utils.gl_backend import egl_device_for_worker
+
+    assert [egl_device_for_worker(n, 4) for n in range(9)] == [0, 1, 2, 3, 0, 1, 2, 3, 0]
+    assert [egl_device_for_worker(n, gpus) for n in range(3) for gpus in (0, 1)] == [None] * 6
+
+
+@pytest.mark.parametrize(("visible", "count"), [("0,2,3", 3), ("1", 1), ("", 0), ("-1", 0)])
+def test_gpu_count_follows_cuda_visible_devices(monkeypatch, visible, count):
+    from legent_gym.utils.gl_backend import nvidia_gpu_count
+
+    monkeypatch.setenv("CUDA_VISIBLE_DEVICES", visible)
+    assert nvidia_gpu_count() == count
+
+
+def test_a_worker_gets_its_gpu_unless_the_user_chose(monkeypatch):
+    """Two visible GPUs: worker 3 renders on the second; a device the user set, or a backend
+    other than EGL, is left alone."""
+    from legent_gym.utils.gl_backend import assign_egl_device
+
+    monkeypatch.setenv("CUDA_VISIBLE_DEVICES", "0,1")
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    monkeypatch.delenv("MUJOCO_EGL_DEVICE_ID", raising=False)
+    assert assign_egl_device(3) == 1 and os.environ["MUJOCO_EGL_DEVICE_ID"] == "1"
+    monkeypatch.setenv("MUJOCO_EGL_DEVICE_ID", "0")
+    assert assign_egl_device(3) is None and os.environ["MUJOCO_EGL_DEVICE_ID"] == "0"
+    monkeypatch.delenv("MUJOCO_EGL_DEVICE_ID")
+    monkeypatch.setenv("MUJOCO_GL", "osmesa")
+    assert assign_egl_device(3) is None and "MUJOCO_EGL_DEVICE_ID" not in os.environ
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    monkeypatch.setenv("CUDA_VISIBLE_DEVICES", "0")
+    assert assign_egl_device(3) is None and "MUJOCO_EGL_DEVICE_ID" not in os.environ
+
+
+def test_gl_info_names_what_renders():
+    """``legent-gym gl-info`` makes a context and prints its renderer: on a machine without
+    an NVIDIA GPU, Mesa's llvmpipe; a device that does not exist is an error naming the
+    variable."""
+    command = str(Path(sys.executable).with_name("legent-gym"))
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "DISPLAY",
+                                                              "WAYLAND_DISPLAY", "MUJOCO_EGL_DEVICE_ID")}
+    out = subprocess.run([command, "gl-info"], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    info = dict(line.split(": ", 1) for line in out.stdout.splitlines())
+    assert info["MUJOCO_GL"] == "egl" and info["renderer"]
+    if info["NVIDIA GPUs"] == "0":
+        assert "llvmpipe" in info["renderer"]
+    bad = subprocess.run([command, "gl-info"], capture_output=True, text=True, timeout=120,
+                         env={**env, "MUJOCO_EGL_DEVICE_ID": "99"})
+    assert bad.returncode != 0 and "MUJOCO_EGL_DEVICE_ID" in bad.stderr

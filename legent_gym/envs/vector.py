@@ -7,7 +7,9 @@ starts a pool of rasterising threads as large as the machine, so N processes fig
 the cores with N times that many threads. :func:`settle_worker` is called when an env is
 made (``HouseholdEnv(pin_worker=True)``, the default): in such a worker process it pins the
 process to one core (the worker's number modulo the cores the process may use) and makes
-llvmpipe render in the calling thread. It does nothing in the main process, in a process
+llvmpipe render in the calling thread; on a machine with several NVIDIA GPUs it also
+gives the worker a GPU to render on (``gl_backend.assign_egl_device``: round robin, unless
+``MUJOCO_EGL_DEVICE_ID`` is set). It does nothing in the main process, in a process
 already pinned to one core (``legent_gym.utils.workers`` pins its own), or where the operating
 system has no CPU affinity.
 """
@@ -17,6 +19,8 @@ from __future__ import annotations
 import multiprocessing
 import os
 import re
+
+from legent_gym.utils import gl_backend
 
 #: A multiprocessing child's name ends in its number: Gymnasium names its workers
 #: ``Worker<AsyncVectorEnv>-i``, and the standard library numbers the others.
@@ -37,7 +41,10 @@ def settle_worker() -> int | None:
     calling thread (see the module docstring). Returns the core, or None if nothing was
     done."""
     number = worker_number()
-    if number is None or not hasattr(os, "sched_setaffinity"):
+    if number is None:
+        return None
+    gl_backend.assign_egl_device(number)
+    if not hasattr(os, "sched_setaffinity"):
         return None
     cores = sorted(os.sched_getaffinity(0))
     if len(cores) < 2:

@@ -48,3 +48,62 @@ def live_contexts() -> dict[str, int]:
     """How many OpenGL contexts (``"gl"``) and MuJoCo rendering contexts (``"mjr"``) made
     by this process's renderers are alive now."""
     return {kind: len(objects) for kind, objects in _live.items()}
+
+
+# -- NVIDIA GPUs ------------------------------------------------------------------------
+# MuJoCo's EGL backend renders on the EGL device that MUJOCO_EGL_DEVICE_ID names (a CUDA
+# device index when the driver maps EGL devices to CUDA ones, as NVIDIA's does), read when
+# the process makes its first OpenGL context; without it, every process takes the first
+# device. So on a machine with several GPUs the workers of a vector env are spread over them.
+
+#: One folder per NVIDIA GPU the kernel driver knows.
+NVIDIA_GPUS = "/proc/driver/nvidia/gpus"
+
+
+def nvidia_gpu_count() -> int:
+    """How many NVIDIA GPUs this process may use: the entries of ``CUDA_VISIBLE_DEVICES``
+    when it is set, else the GPUs the NVIDIA kernel driver lists (0 without the driver)."""
+    visible = os.environ.get("CUDA_VISIBLE_DEVICES")
+    if visible is not None:
+        return len([v for v in visible.split(",") if v.strip() and not v.strip().startswith("-")])
+    try:
+        return len(os.listdir(NVIDIA_GPUS))
+    except OSError:
+        return 0
+
+
+def egl_device_for_worker(number: int, gpus: int) -> int | None:
+    """The GPU a vector env's worker ``number`` renders on among ``gpus`` (round robin), or
+    None when there is nothing to choose (fewer than two GPUs)."""
+    return number % gpus if gpus >= 2 else None
+
+
+def assign_egl_device(number: int) -> int | None:
+    """In a vector env's worker, before its first frame: set ``MUJOCO_EGL_DEVICE_ID`` to the
+    worker's GPU when MuJoCo renders through EGL on a machine with several NVIDIA GPUs and
+    the user has not set it. Returns the device set, or None."""
+    if os.environ.get("MUJOCO_GL") != "egl" or "MUJOCO_EGL_DEVICE_ID" in os.environ:
+        return None
+    device = egl_device_for_worker(number, nvidia_gpu_count())
+    if device is not None:
+        os.environ["MUJOCO_EGL_DEVICE_ID"] = str(device)
+    return device
+
+
+def describe() -> dict[str, str]:
+    """What renders in this process: the backend, the EGL device asked for, and the OpenGL
+    vendor, renderer and version of a context made now (``"llvmpipe ..."`` is Mesa's
+    software rasteriser on the CPU; an NVIDIA GPU names itself)."""
+    import mujoco  # here: after default_mujoco_gl() has set the backend
+    from OpenGL import GL  # PyOpenGL, a dependency of MuJoCo's EGL and OSMesa backends
+
+    context = mujoco.GLContext(16, 16)
+    try:
+        context.make_current()
+        info = {name: GL.glGetString(getattr(GL, f"GL_{name.upper()}")).decode()
+                for name in ("vendor", "renderer", "version")}
+    finally:
+        context.free()
+    return {"MUJOCO_GL": os.environ.get("MUJOCO_GL", "(MuJoCo's default)"),
+            "MUJOCO_EGL_DEVICE_ID": os.environ.get("MUJOCO_EGL_DEVICE_ID", "(first device)"),
+            "NVIDIA GPUs": str(nvidia_gpu_count()), **info}
