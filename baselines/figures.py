@@ -186,7 +186,7 @@ def expert_takeover() -> Table:
     actions (a move of up to 1.5 m, a turn, a tilt; one generator seeded 0 per id), then the
     expert; how often it succeeds where success was still possible (the episode not ended by
     the random actions): :func:`baselines.evaluate.expert_takeover`, which
-    ``tests/test_expert_wrappers.py`` also runs."""
+    ``tests/wrappers/test_expert_wrappers.py`` also runs."""
     # imported here: the baselines' modules import torch (seconds); --check and --show need none
     from baselines.evaluate import expert_takeover as takeover
 

@@ -29,10 +29,10 @@ apt_install() {
 # Headless rendering: EGL with Mesa's software rasteriser (llvmpipe). No X server needed.
 apt_install "install EGL + Mesa by hand" libegl1 libgl1 libegl-mesa0 libgl1-mesa-dri libgles2
 
-# The dev extra's tests render through the other backends too (tests/test_gl_backend.py:
+# The dev extra's tests render through the other backends too (tests/utils/test_gl_backend.py:
 # MUJOCO_GL=osmesa, and GLFW on a display: a virtual X server).
 case ",$extras," in
-  *,dev,*|*,all,*) apt_install "tests/test_gl_backend.py skips its OSMesa and display tests" libosmesa6 xvfb ;;
+  *,dev,*|*,all,*) apt_install "tests/utils/test_gl_backend.py skips its OSMesa and display tests" libosmesa6 xvfb ;;
 esac
 
 # The play extra's browser tests drive Debian's chromium package (never a downloaded browser build).

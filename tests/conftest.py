@@ -13,7 +13,7 @@ from .skip_check import pytest_addoption, pytest_sessionfinish, pytest_terminal_
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLES = REPO / "examples" / "scenes"
 # Khronos glTF 2.0 sample models (CC0 / CC-BY 4.0; sources and attribution in SOURCES.md there).
-GLTF_SAMPLES = REPO / "tests" / "data" / "gltf"
+GLTF_SAMPLES = REPO / "tests" / "fixtures" / "gltf"
 
 
 @pytest.fixture(scope="session")

@@ -1,6 +1,6 @@
 """Fingerprints of seeded rollouts, to pin the episodes every env id produces.
 
-``python -m tests.rollout_fingerprint`` rewrites ``tests/data/rollouts.json`` from the
+``python -m tests.rollout_fingerprint`` rewrites ``tests/fixtures/rollouts.json`` from the
 current code; ``tests/test_rollout_fingerprints.py`` recomputes the fingerprints and
 compares. A refactor that must not change behaviour leaves the file as it is.
 
@@ -26,7 +26,7 @@ import legent_gym  # noqa: F401  (registers the ids)
 from legent_gym.envs.registration import ENV_IDS
 from legent_gym.wrappers import ExpertInfo
 
-PATH = Path(__file__).parent / "data" / "rollouts.json"
+PATH = Path(__file__).parent / "fixtures" / "rollouts.json"
 STEPS = 12
 SIZE = 32
 RANDOM_ACTIONS = ("move_forward(0.7)", "rotate_right(-40)", "rotate_down(15)", "grab()", "put()", "open()",

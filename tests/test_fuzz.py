@@ -6,7 +6,7 @@ and the text action language. Each property runs 200 examples in the default sui
   negative or zero, a missing key or list entry, an extra key, extra nesting, a long or
   empty string, a duplicated entry) is either accepted, and then builds or raises
   ``SceneBuildError``, or raises ``SceneError`` whose problems each name a message;
-* glTF: the Khronos samples (``tests/data/gltf``), as ``.gltf`` and as ``.glb``,
+* glTF: the Khronos samples (``tests/fixtures/gltf``), as ``.gltf`` and as ``.glb``,
   truncated, with bits flipped, with bytes overwritten, and with wrong lengths (GLB header
   and chunk lengths; ``byteLength``, ``byteOffset``, ``count``, ``byteStride`` and
   ``componentType`` in the JSON) either import, and then build or raise

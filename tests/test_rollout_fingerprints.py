@@ -1,4 +1,4 @@
-"""Every env id still produces the episodes recorded in ``tests/data/rollouts.json``.
+"""Every env id still produces the episodes recorded in ``tests/fixtures/rollouts.json``.
 
 The file pins observations (RGB, depth, segmentation), rewards, ends and infos of seeded
 rollouts (see :mod:`tests.rollout_fingerprint`). A change that is meant to alter episodes

@@ -17,7 +17,7 @@ one ``mj_forward``, the renderer's upload of the house's meshes and texture and 
 frame; the asset library's models are loaded only when something reads them
 (:class:`HouseAssets`).
 
-* The same seeds give the same episodes with or without helpers (``tests/test_factory.py``
+* The same seeds give the same episodes with or without helpers (``tests/envs/test_factory.py``
   compares observations and infos): a helper runs the same code on the same seed; an
   episode not prepared (a seed nobody predicted, a helper's error) is played in the env's
   process as without helpers.

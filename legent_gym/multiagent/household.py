@@ -13,7 +13,7 @@ this env owns one and adds the user's turn before it, on the same engine. Each p
 3. both egocentric views are rendered (the agent's inside ``HouseholdEnv.step``).
 
 So, with a user that never acts, the agent's observations, rewards and infos are exactly
-those of the single-agent env under the same seed (``tests/test_multiagent.py`` checks it).
+those of the single-agent env under the same seed (``tests/multiagent/test_multiagent.py`` checks it).
 
 Module functions, as PettingZoo envs have them: :func:`parallel_env`, :func:`raw_env` (the
 AEC form) and :func:`env` (the AEC form with order enforcement); :func:`env_module` gives

@@ -4,7 +4,7 @@
     env = SingleAgentEnv(parallel_env(task="ComeHere"), partner=agent_policy, learner="user")
 
 With ``partner="still"`` and ``learner="agent"`` it is the single-agent env: the same
-observations, rewards and infos under the same seed (``tests/test_multiagent.py``).
+observations, rewards and infos under the same seed (``tests/multiagent/test_multiagent.py``).
 The partner is reset at every episode with a generator drawn from this env's own seed, so
 its randomness never changes which houses are drawn.
 """

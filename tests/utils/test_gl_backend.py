@@ -1,0 +1,167 @@
+"""legent_gym/utils/gl_backend.py: the OpenGL backend MuJoCo renders through, in a fresh Python
+per case (MuJoCo reads ``MUJOCO_GL`` once, at its first import): EGL on a machine with no
+display, the user's ``MUJOCO_GL`` whatever else holds, and MuJoCo's own default (GLFW) on a
+display, a real X server (Xvfb) here. Each case renders a frame and compares it with the
+EGL frame."""
+
+from __future__ import annotations
+
+import contextlib
+import ctypes.util
+import json
+import os
+import shutil
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.conftest import REPO
+
+#: Renders the agent's view of an example house at 32 x 32 and prints what was chosen.
+PROBE = """
+import json, os, sys
+import legent_gym
+chosen = {"MUJOCO_GL": os.environ.get("MUJOCO_GL"), "PYOPENGL_PLATFORM": os.environ.get("PYOPENGL_PLATFORM")}
+if sys.argv[1:] == ["render"]:
+    from mujoco import gl_context
+    from legent_gym.world import load_scene
+    from legent_gym.world.builder import build_world
+    from legent_gym.world.render import Renderer
+    renderer = Renderer(build_world(load_scene("examples/scenes/one_room.json")), 32, 32, profile="fast")
+    chosen["context"] = gl_context.GLContext.__module__
+    chosen["rgb"] = renderer.rgb("agent").tolist()
+print(json.dumps(chosen))
+"""
+XVFB = shutil.which("Xvfb")
+needs_osmesa = pytest.mark.skipif(ctypes.util.find_library("OSMesa") is None,
+                                  reason="no libOSMesa (Debian: apt-get install libosmesa6; scripts/setup.sh installs "
+                                         "it with the dev extra)")
+needs_xvfb = pytest.mark.skipif(XVFB is None, reason="no Xvfb (Debian: apt-get install xvfb; scripts/setup.sh "
+                                                      "installs it with the dev extra)")
+
+
+def probe(render: bool = True, **variables: str) -> tuple[dict, str]:
+    """What a fresh ``import legent_gym`` chooses, with ``variables`` as the only display
+    and OpenGL variables set; and what else it wrote (stderr, other lines of stdout)."""
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "DISPLAY", "WAYLAND_DISPLAY")}
+    env.update(variables)
+    done = subprocess.run([sys.executable, "-c", PROBE, *(["render"] if render else [])], cwd=REPO, env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-3000:]
+    printed = [line for line in done.stdout.splitlines() if line.startswith("{")]
+    assert printed, done.stdout[-2000:]
+    return json.loads(printed[-1]), done.stderr + done.stdout.replace(printed[-1], "")
+
+
+@pytest.fixture(scope="module")
+def egl_frame() -> np.ndarray:
+    chosen, _ = probe()
+    assert chosen["MUJOCO_GL"] == "egl" and chosen["PYOPENGL_PLATFORM"] == "egl" and chosen["context"] == "mujoco.egl"
+    return np.array(chosen["rgb"], dtype=np.uint8)
+
+
+@contextlib.contextmanager
+def xvfb() -> Iterator[str]:
+    """A virtual X server on a display number it picks; yields ``":N"``."""
+    read, write = os.pipe()
+    proc = subprocess.Popen([XVFB, "-displayfd", str(write), "-nolisten", "tcp", "-screen", "0", "320x240x24"],
+                            pass_fds=(write,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    os.close(write)
+    try:
+        with os.fdopen(read) as pipe:
+            number = pipe.readline().strip()  # written once the server accepts connections
+        assert number.isdigit(), "Xvfb did not start"
+        yield f":{number}"
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+
+
+def test_no_display_no_choice_is_egl(egl_frame):
+    assert egl_frame.shape == (32, 32, 3) and egl_frame.std() > 5  # a picture, not a blank
+
+
+@needs_osmesa
+def test_mujoco_gl_osmesa_is_honoured_and_renders_the_same_picture(egl_frame):
+    chosen, stderr = probe(MUJOCO_GL="osmesa")
+    assert chosen["MUJOCO_GL"] == "osmesa" and chosen["PYOPENGL_PLATFORM"] == "osmesa"
+    assert chosen["context"] == "mujoco.osmesa"
+    assert np.abs(np.array(chosen["rgb"], dtype=np.int16) - egl_frame).mean() < 1.0
+    assert "Traceback" not in stderr and "Exception ignored" not in stderr, stderr[-2000:]  # a clean exit
+
+
+def test_a_display_without_mujoco_gl_is_left_to_mujoco():
+    """With a display the choice is MuJoCo's (GLFW): nothing is set (without rendering: no
+    X server listens on this display)."""
+    for variable in ("DISPLAY", "WAYLAND_DISPLAY"):
+        chosen, _ = probe(render=False, **{variable: ":4242" if variable == "DISPLAY" else "wayland-4242"})
+        assert chosen == {"MUJOCO_GL": None, "PYOPENGL_PLATFORM": None}, variable
+
+
+@needs_xvfb
+def test_on_a_real_display_mujoco_renders_through_glfw_and_mujoco_gl_still_wins(egl_frame):
+    with xvfb() as display:
+        chosen, _ = probe(DISPLAY=display)
+        assert chosen["MUJOCO_GL"] is None and chosen["context"] == "mujoco.glfw"
+        assert np.abs(np.array(chosen["rgb"], dtype=np.int16) - egl_frame).mean() < 1.0
+        chosen, _ = probe(DISPLAY=display, MUJOCO_GL="egl")
+        assert chosen["MUJOCO_GL"] == "egl" and chosen["context"] == "mujoco.egl"
+
+
+# -- GPUs for vector env workers ------------------------------------------------------------
+
+def test_workers_are_spread_over_the_gpus_round_robin():
+    from legent_gym.utils.gl_backend import egl_device_for_worker
+
+    assert [egl_device_for_worker(n, 4) for n in range(9)] == [0, 1, 2, 3, 0, 1, 2, 3, 0]
+    assert [egl_device_for_worker(n, gpus) for n in range(3) for gpus in (0, 1)] == [None] * 6
+
+
+@pytest.mark.parametrize(("visible", "count"), [("0,2,3", 3), ("1", 1), ("", 0), ("-1", 0)])
+def test_gpu_count_follows_cuda_visible_devices(monkeypatch, visible, count):
+    from legent_gym.utils.gl_backend import nvidia_gpu_count
+
+    monkeypatch.setenv("CUDA_VISIBLE_DEVICES", visible)
+    assert nvidia_gpu_count() == count
+
+
+def test_a_worker_gets_its_gpu_unless_the_user_chose(monkeypatch):
+    """Two visible GPUs: worker 3 renders on the second; a device the user set, or a backend
+    other than EGL, is left alone."""
+    from legent_gym.utils.gl_backend import assign_egl_device
+
+    monkeypatch.setenv("CUDA_VISIBLE_DEVICES", "0,1")
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    monkeypatch.delenv("MUJOCO_EGL_DEVICE_ID", raising=False)
+    assert assign_egl_device(3) == 1 and os.environ["MUJOCO_EGL_DEVICE_ID"] == "1"
+    monkeypatch.setenv("MUJOCO_EGL_DEVICE_ID", "0")
+    assert assign_egl_device(3) is None and os.environ["MUJOCO_EGL_DEVICE_ID"] == "0"
+    monkeypatch.delenv("MUJOCO_EGL_DEVICE_ID")
+    monkeypatch.setenv("MUJOCO_GL", "osmesa")
+    assert assign_egl_device(3) is None and "MUJOCO_EGL_DEVICE_ID" not in os.environ
+    monkeypatch.setenv("MUJOCO_GL", "egl")
+    monkeypatch.setenv("CUDA_VISIBLE_DEVICES", "0")
+    assert assign_egl_device(3) is None and "MUJOCO_EGL_DEVICE_ID" not in os.environ
+
+
+def test_gl_info_names_what_renders():
+    """``legent-gym gl-info`` makes a context and prints its renderer: on a machine without
+    an NVIDIA GPU, Mesa's llvmpipe; a device that does not exist is an error naming the
+    variable."""
+    command = str(Path(sys.executable).with_name("legent-gym"))
+    env = {k: v for k, v in os.environ.items() if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "DISPLAY",
+                                                              "WAYLAND_DISPLAY", "MUJOCO_EGL_DEVICE_ID")}
+    out = subprocess.run([command, "gl-info"], capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 0, out.stderr
+    info = dict(line.split(": ", 1) for line in out.stdout.splitlines())
+    assert info["MUJOCO_GL"] == "egl" and info["renderer"]
+    if info["NVIDIA GPUs"] == "0":
+        assert "llvmpipe" in info["renderer"]
+    bad = subprocess.run([command, "gl-info"], capture_output=True, text=True, timeout=120,
+                         env={**env, "MUJOCO_EGL_DEVICE_ID": "99"})
+    assert bad.returncode != 0 and "MUJOCO_EGL_DEVICE_ID" in bad.stderr
