@@ -180,7 +180,7 @@ def test_validate_bad_scene_is_one_line(tmp_path, case):
 
 def _gltf(points, *, indices=None, mode=4, name="model.gltf"):
     def write(tmp_path: Path) -> Path:
-        from .test_gltf import write_gltf
+        from tests.world.test_gltf import write_gltf
 
         return write_gltf(tmp_path / name, points, indices=indices, mode=mode)
     return write

@@ -137,7 +137,10 @@ def test_a_worker_gets_its_gpu_unless_the_user_chose(monkeypatch):
 
     monkeypatch.setenv("CUDA_VISIBLE_DEVICES", "0,1")
     monkeypatch.setenv("MUJOCO_GL", "egl")
-    monkeypatch.delenv("MUJOCO_EGL_DEVICE_ID", raising=False)
+    # setenv first, so that monkeypatch restores the variable as it was, whatever
+    # assign_egl_device writes: a device left set would follow this worker's later tests
+    monkeypatch.setenv("MUJOCO_EGL_DEVICE_ID", "unset")
+    monkeypatch.delenv("MUJOCO_EGL_DEVICE_ID")
     assert assign_egl_device(3) == 1 and os.environ["MUJOCO_EGL_DEVICE_ID"] == "1"
     monkeypatch.setenv("MUJOCO_EGL_DEVICE_ID", "0")
     assert assign_egl_device(3) is None and os.environ["MUJOCO_EGL_DEVICE_ID"] == "0"
