@@ -1,5 +1,5 @@
 """``legent-gym play`` as the user with each kind of partner driving the agent (``random``,
-``module:function``, ``llm`` against a real OpenAI-compatible server on 127.0.0.1), and
+``module:function``, ``llm`` against a real OpenAI-compatible server on the loopback interface), and
 ``--sessions 2``: the real command in a child process, spoken to over its WebSocket."""
 
 from __future__ import annotations
