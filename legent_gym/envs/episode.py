@@ -49,8 +49,11 @@ the coming episodes are known before they begin (:meth:`Episode.upcoming`), whic
 lets them be prepared elsewhere:
 
 * **in helper processes** (``helpers`` > 0; :mod:`legent_gym.envs.factory`), which play
-  the coming seeds while the env steps and ship each episode ready to use, so that a
-  reset only loads it;
+  the coming seeds while the env steps and ship each episode ready to use; what is left
+  to do here (loading a new house's model, putting the bodies at their spawns, uploading
+  its meshes for the renderer) is done a piece at a time after the steps before it
+  (:meth:`Episode.stage`, about a millisecond a step), so that a reset only swaps the
+  next episode in and draws its first frame;
 * **or, for the house alone, in a thread** (``prepare_ahead``): once an episode has begun
   in the last episode of its house, the next block's house is generated and built in a
   background thread at the lowest CPU priority, in time the process would spend waiting
@@ -120,6 +123,37 @@ SEED_BLOCKS = 2**31 - 1
 BODY_METHOD = {Interact: "interact", Grab: "grab", Put: "put", Open: "open", Close: "close"}
 
 
+@dataclass
+class _Staged:
+    """The next episode, taken from a helper and made ready here a piece at a time
+    (:meth:`Episode.stage`)."""
+
+    seed: int
+    prepared: PreparedEpisode
+    #: What is left to do (None: nothing).
+    work: Iterator[None] | None = None
+    #: Its new house, loaded, with the bodies at their spawns and its renderer (None for a
+    #: house held here, which the current episode may be using).
+    house: House | None = None
+    ctx: TaskContext | None = None
+    renderer: Renderer | None = None
+    #: The agent's first views in it (what :meth:`Episode.views` gives first).
+    first_views: dict[str, np.ndarray] | None = None
+
+    def finish(self) -> None:
+        if self.work is not None:
+            for _ in self.work:
+                pass
+            self.work = None
+
+    def drop(self) -> None:
+        """Give up on it (its renderer's GL context is kept for the next renderer)."""
+        self.work = None
+        if self.renderer is not None:
+            self.renderer.close()
+            self.renderer = None
+
+
 @dataclass(frozen=True)
 class Observing:
     """What :meth:`Episode.views` renders: image size and the extra images."""
@@ -180,6 +214,18 @@ class Episode:
         #: Helper processes that prepare the coming episodes (0: none; see the module docstring).
         self.helpers = int(helpers)
         self._factory: EpisodeFactory | None = None
+        #: With helpers: the seed the next begin() without a seed plays, and that episode
+        #: as far as :meth:`stage` has made it ready.
+        self._next_seed: int | None = None
+        self._staged: _Staged | None = None
+        #: The agent's views drawn ahead for the episode just begun, given by the first
+        #: views("agent") unless the world moved first.
+        self._first_views: dict[str, np.ndarray] | None = None
+        #: The renderer and house the last staged begin() left: freed by the next stage(),
+        #: off the reset.
+        self._retired: tuple[Renderer | None, House | None] | None = None
+        #: Of those, episodes begun in a new house that :meth:`stage` had loaded and entered.
+        self.episodes_staged = 0
         #: Episodes begun from one a helper prepared (the rest were played here).
         self.episodes_from_helpers = 0
         #: Keep each built house's compiled model as MuJoCo's binary (what helpers ship).
@@ -227,6 +273,7 @@ class Episode:
         of the current block of ``episodes_per_house`` seeds, or the first of a new block
         drawn from ``rng``). With helpers the episode is taken ready-made from them when it
         is one they were asked to prepare (:mod:`legent_gym.envs.factory`): the same episode."""
+        self._first_views = None
         if scene is not None:
             self.episode_seed = None
             return self._begin(rng, rng, 0, scene)
@@ -241,15 +288,77 @@ class Episode:
             if self.prepare_ahead:
                 self._make_next_ahead(rng)
             return attempts
-        prepared = factory.take(seed)
-        adopted = self._adopt(prepared) if prepared is not None else None
+        staged, self._staged = self._staged, None
+        if staged is not None and staged.seed != seed:
+            staged.drop()
+            staged = None
+        if staged is not None:
+            staged.finish()
+        prepared = staged.prepared if staged is not None else factory.take(seed)
+        adopted = self._adopt(prepared, staged) if prepared is not None else None
         if adopted is None:
             attempts = self.play(seed)
         else:
             attempts = adopted
             self.episodes_from_helpers += 1
-        factory.want(self.upcoming(rng, factory.lookahead), self._held_keys())
+        upcoming = self.upcoming(rng, factory.lookahead)
+        factory.want(upcoming, self._held_keys())
+        self._next_seed = upcoming[0] if upcoming else None
         return attempts
+
+    def stage(self) -> None:
+        """Do one piece (about a millisecond) of setting up the episode the next
+        :meth:`begin` without a seed plays, once its helper has sent it: load its new house's
+        model, put the bodies at their spawns, then upload the house's textures and meshes
+        for its renderer, a piece per call. Front ends call it after each step; the next
+        begin does whatever is left, or drops it if it plays another seed. Without helpers
+        it does nothing. The episode is the same either way: staging changes only when the
+        work is done."""
+        if self._retired is not None:
+            self._release_retired()
+            return
+        if self._factory is None or self._next_seed is None:
+            return
+        staged = self._staged
+        if staged is None:
+            prepared = self._factory.take_ready(self._next_seed)
+            if prepared is not None:
+                staged = self._staged = _Staged(self._next_seed, prepared)
+                staged.work = self._staging(staged)
+            return
+        if staged.work is not None and next(staged.work, True):
+            staged.work = None
+
+    @property
+    def staged(self) -> bool:
+        """Whether :meth:`stage` has done all there is to do ahead for the next episode."""
+        return self._staged is not None and self._staged.work is None
+
+    def _staging(self, staged: _Staged) -> Iterator[None]:
+        """The pieces of :meth:`stage`'s work for ``staged``."""
+        prepared = staged.prepared
+        if prepared.house is None or prepared.key in self._held_keys():
+            return  # a house held here: entered at the reset (the current episode may be in it)
+        assert self._factory is not None
+        house = prepared.house.to_house(self._factory.library)
+        staged.house = house
+        yield
+        house.episodes = prepared.episodes
+        staged.ctx = self._placed(house, prepared.agent, prepared.user)
+        staged.ctx.add_cached_distances(prepared.distances)
+        o = self.observing
+        staged.renderer = Renderer(house.world, o.width, o.height, "fast")
+        yield
+        while not staged.renderer.prepare_step():
+            yield
+        yield
+        staged.first_views = self._draw_views(staged.renderer, "agent")
+
+    def _release_retired(self) -> None:
+        renderer, _house = self._retired or (None, None)
+        self._retired = None
+        if renderer is not None:
+            renderer.close()
 
     def play(self, seed: int) -> int:
         """Start the episode of ``seed``, which depends on the seed alone: seeds ``s`` with
@@ -348,10 +457,25 @@ class Episode:
             held.add(self.house.draw.key)
         return held
 
-    def _adopt(self, prepared: PreparedEpisode) -> int | None:
-        """Begin the episode a helper prepared; None when its house is neither held here
-        nor shipped (then the caller plays it)."""
+    def _adopt(self, prepared: PreparedEpisode, staged: _Staged | None = None) -> int | None:
+        """Begin the episode a helper prepared (and :meth:`stage` set up, if ``staged``);
+        None when its house is neither held here nor shipped (then the caller plays it)."""
         key = prepared.key
+        if staged is not None and staged.ctx is not None:
+            house = staged.house
+            assert house is not None and staged.renderer is not None
+            if house.draw.repeats or self.episodes_per_house > 1:
+                self._keep(house)
+            # The last house and its renderer are let go by the next stage(), not here.
+            self._release_retired()
+            self._retired = (self._renderer, self.house)
+            self._renderer, self._renderer_world = staged.renderer, house.world
+            self.house, self.ctx = house, staged.ctx
+            self._first_views = staged.first_views
+            self.episode_seed = prepared.seed
+            self.goal = prepared.goal
+            self.episodes_staged += 1
+            return prepared.attempts
         house = self._kept.get(key)
         if house is not None:
             self._kept.move_to_end(key)
@@ -443,9 +567,16 @@ class Episode:
 
     def _enter(self, house: House, agent: Spawn, user: Spawn | None) -> TaskContext:
         """Restore ``house`` as built and put the bodies at these spawns."""
-        world = house.world
-        if self._renderer is not None and self._renderer_world is not world:
+        if self._renderer is not None and self._renderer_world is not house.world:
             self._close_renderer()
+        ctx = self._placed(house, agent, user)
+        self.house, self.ctx = house, ctx
+        return ctx
+
+    def _placed(self, house: House, agent: Spawn, user: Spawn | None) -> TaskContext:
+        """``house`` restored as built with the bodies at these spawns, and its context (not
+        made the current one)."""
+        world = house.world
         restore(world, house.built)
         scene = house.scene
         if agent != scene.agent or user != scene.user:
@@ -454,8 +585,7 @@ class Episode:
         if user is not None:
             world.set_body_pose("user", *user.position, user.yaw)
         mujoco.mj_forward(world.model, world.data)
-        self.house = house
-        return self.set_up(scene, world, house.nav)
+        return self._context(scene, world, house.nav)
 
     def set_up(self, scene: Scene, world: World | None = None, nav: NavGrid | None = None) -> TaskContext:
         """Build ``scene`` (or take its built ``world`` and ``nav``) and put the agent and the
@@ -466,17 +596,21 @@ class Episode:
                 world = build_world(scene, self.build_options)
         if nav is None:
             nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
+        self.ctx = self._context(scene, world, nav)
+        return self.ctx
+
+    def _context(self, scene: Scene, world: World, nav: NavGrid) -> TaskContext:
         agent = Body(world, "agent", reach=self.reach, other="user" if scene.user else None, spawn=scene.agent,
                      record_motion=self.record_motion)
         user = Body(world, "user", other="agent", spawn=scene.user or scene.agent, record_motion=self.record_motion)
-        self.ctx = TaskContext(scene, world, agent, user, nav)
-        return self.ctx
+        return TaskContext(scene, world, agent, user, nav)
 
     # -- 2. running primitives -------------------------------------------------------------------
     def run(self, primitives: tuple[Action, ...] | list[Action], body: Body | None = None) -> list[Outcome]:
         """Run a step's primitives in order by the agent (or ``body``), with one update of
         the world for its moves and turns (see :meth:`~legent_gym.agent.body.Body.batched`)."""
         ctx = self.require()
+        self._first_views = None
         actor = ctx.agent if body is None else body
         with actor.batched():
             return [self.execute(p, body) for p in primitives]
@@ -486,6 +620,7 @@ class Episode:
         and interacts through here; it handles the user's speech and finish itself). The
         primitive is clipped to :attr:`limits` first; the outcome's reason says so."""
         ctx = self.require()
+        self._first_views = None
         primitive, note = clip_action(primitive, self.limits)
         actor = ctx.agent if body is None else body
         match primitive:
@@ -538,7 +673,12 @@ class Episode:
     def views(self, who: str = "agent") -> dict[str, np.ndarray]:
         """What ``who`` (``"agent"`` or ``"user"``) sees: ``rgb``, and ``depth`` and
         ``segmentation`` when :attr:`observing` asks for them."""
-        renderer = self.renderer
+        first, self._first_views = self._first_views, None
+        if first is not None and who == "agent":
+            return first
+        return self._draw_views(self.renderer, who)
+
+    def _draw_views(self, renderer: Renderer, who: str) -> dict[str, np.ndarray]:
         out = {"rgb": renderer.rgb(who)}
         if self.observing.depth:
             out["depth"] = renderer.depth(who)
@@ -569,6 +709,10 @@ class Episode:
         being made ahead (it is dropped) and stop the helper processes (started again by
         the next :meth:`begin`)."""
         self._close_renderer()
+        self._release_retired()
+        staged, self._staged, self._next_seed = self._staged, None, None
+        if staged is not None:
+            staged.drop()
         ahead, self._ahead = self._ahead, None
         if ahead is not None:
             ahead.wait()
@@ -577,6 +721,7 @@ class Episode:
             factory.close()
 
     def _close_renderer(self) -> None:
+        self._first_views = None
         if self._renderer is not None:
             self._renderer.close()
         self._renderer = self._renderer_world = None
@@ -585,7 +730,7 @@ class Episode:
     def __getstate__(self) -> dict[str, Any]:
         state = self.__dict__.copy()
         state.update(ctx=None, goal=None, house=None, _kept=OrderedDict(), _renderer=None, _renderer_world=None,
-                     _ahead=None, _build_lock=None, _factory=None)
+                     _ahead=None, _build_lock=None, _factory=None, _staged=None, _next_seed=None, _first_views=None, _retired=None)
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:

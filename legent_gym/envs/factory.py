@@ -414,6 +414,16 @@ class EpisodeFactory:
         self.houses_received += prepared.house is not None
         return prepared
 
+    def take_ready(self, seed: int) -> PreparedEpisode | None:
+        """:meth:`take` if the episode of ``seed`` has come (never waits); else None."""
+        if seed not in self._ready:
+            if seed not in self._playing:
+                return None
+            self._receive(block=False)
+            if seed not in self._ready:
+                return None
+        return self.take(seed)
+
     def _receive(self, *, block: bool, helper: _Helper | None = None) -> None:
         busy = [h for h in self._helpers if h.outstanding]
         if helper is not None:

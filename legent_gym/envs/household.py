@@ -325,7 +325,9 @@ class HouseholdEnv(gym.Env):
         info.update(action_info(texts, results, error))
         if self.frames_per_step > 1:
             info["frames"] = np.stack(self._frames_within_step())
-        return self._observation(), reward, bool(terminated), False, info
+        obs = self._observation()
+        self.episode.stage()  # a piece of the next episode's set-up, now that this step's frame is drawn
+        return obs, reward, bool(terminated), False, info
 
     def _frames_within_step(self) -> list[np.ndarray]:
         """The agent's views at the moments between the last observation and this one (and,

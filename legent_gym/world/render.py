@@ -28,6 +28,7 @@ from __future__ import annotations
 import copy
 import os
 import threading
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Literal
 
@@ -146,7 +147,7 @@ FONT_SCALE = mujoco.mjtFontScale.mjFONTSCALE_50
 
 def _context_key(model: mujoco.MjModel) -> tuple | None:
     """What a ``MjrContext`` made for ``model`` holds apart from the model's meshes,
-    textures, material table and a few scalars (which :func:`_retarget` rewrites): the
+    textures, material table and a few scalars (which :func:`_retargeting` rewrites): the
     offscreen and shadow buffers, the fonts and the built-in shapes. Two models with the
     same key can share a context. None for models whose contexts hold more (planes, height
     fields, skins, skyboxes are made per model): such contexts are never reused."""
@@ -163,10 +164,15 @@ def _context_key(model: mujoco.MjModel) -> tuple | None:
             tuple(vis.rgba.haze.tolist()), int(model.ntex))
 
 
-def _retarget(context: mujoco.MjrContext, model: mujoco.MjModel) -> None:
+#: Meshes uploaded per piece of :meth:`Renderer.prepare_step` (about a millisecond's work).
+MESHES_PER_PIECE = 16
+
+
+def _retargeting(context: mujoco.MjrContext, model: mujoco.MjModel) -> Iterator[None]:
     """Make a context made for another model of the same :func:`_context_key` draw
     ``model``: what ``mjr_makeContext`` takes from the model, set again (its scalars, the
-    material table, the textures, the meshes' display lists)."""
+    material table, the textures, the meshes' display lists), yielding after the textures
+    and after every :data:`MESHES_PER_PIECE` meshes."""
     stat, vis = model.stat, model.vis
     context.shadowClip = stat.extent * vis.map.shadowclip
     context.shadowScale = vis.map.shadowscale
@@ -186,6 +192,8 @@ def _retarget(context: mujoco.MjrContext, model: mujoco.MjModel) -> None:
         context.textureType[i] = model.tex_type[i]
         mujoco.mjr_uploadTexture(model, context, i)
     for i in range(model.nmesh):
+        if i % MESHES_PER_PIECE == 0:
+            yield
         mujoco.mjr_uploadMesh(model, context, i)
 
 
@@ -206,7 +214,8 @@ def _keep_spare(key: tuple | None, context: mujoco.MjrContext, scene: mujoco.Mjv
 
 
 def _take_spare(key: tuple | None, model: mujoco.MjModel):
-    """The kept (context, scene) if they can draw ``model``, retargeted to it; else None."""
+    """The kept (context, scene) if they can draw ``model`` once retargeted to it (see
+    :func:`_retargeting`); else None."""
     spare = getattr(_local, "spare", None)
     if key is None or spare is None or spare[0] != key:
         return None
@@ -214,7 +223,6 @@ def _take_spare(key: tuple | None, model: mujoco.MjModel):
     if context.rangeMesh < 2 * model.nmesh or scene.maxgeom < _scene_size(model):
         return None
     _local.spare = None
-    _retarget(context, model)
     scene.flags[:] = _local.scene_flags  # as a new scene has them
     return context, scene
 
@@ -238,6 +246,8 @@ class Renderer:
 
     def __init__(self, world: World, width: int = 96, height: int = 96, profile: Profile = "fast"):
         self._context: mujoco.MjrContext | None = None  # first: __del__ runs even if we raise below
+        #: The pieces of work left before the context can draw (see prepare_step); None when none are.
+        self._preparation: Iterator[None] | None = None
         self._key: tuple | None = None  # what its context can be shared by (see _context_key)
         if width < 1 or height < 1:
             raise ValueError(f"image size must be positive, got {width}x{height}")
@@ -264,15 +274,36 @@ class Renderer:
 
     # -- lifecycle -------------------------------------------------------------------------
     def _ensure(self) -> None:
-        if self._context is not None:
-            _shared_gl_context(self.width, self.height)
-            # Every renderer has its own framebuffer in the one GL context, and another
-            # renderer may have bound its own since: bind ours, or we draw into theirs.
-            if getattr(_local, "bound", None) is not self._context:
-                mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
-                _local.bound = self._context
-            return
+        if self._context is None or self._preparation is not None:
+            while not self.prepare_step():
+                pass
         _shared_gl_context(self.width, self.height)
+        # Every renderer has its own framebuffer in the one GL context, and another
+        # renderer may have bound its own since: bind ours, or we draw into theirs.
+        if getattr(_local, "bound", None) is not self._context:
+            mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
+            _local.bound = self._context
+
+    def prepare_step(self) -> bool:
+        """Do the next piece of what the first frame needs done (take the thread's kept
+        context or make one, upload the model's textures and then its meshes, about a
+        millisecond a piece); True once nothing is left. An env calls it between the steps
+        of one house's episode to have the next house's renderer ready before its reset
+        (``Episode.stage``); the first frame does whatever is left."""
+        if self._preparation is None:
+            if self._context is not None:
+                return True
+            self._preparation = self._prepare()
+        _shared_gl_context(self.width, self.height)
+        done = next(self._preparation, True)
+        # Making or filling a context may bind its buffers: the next frame of any renderer
+        # binds its own framebuffer again.
+        _local.bound = None
+        if done:
+            self._preparation = None
+        return bool(done)
+
+    def _prepare(self) -> Iterator[None]:
         model = self.world.model
         vis = model.vis
         # The offscreen buffer is sized when the context is made: size it to the image.
@@ -293,13 +324,15 @@ class Renderer:
             if getattr(_local, "scene_flags", None) is None:
                 _local.scene_flags = self._scene.flags.copy()
         else:
+            # Held from here on, so that close() keeps or frees it even if unfinished.
             self._context, self._scene = kept
-        mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
-        _local.bound = self._context
+            for _ in _retargeting(self._context, model):
+                yield
+                _shared_gl_context(self.width, self.height)
         self._context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
         self._segmented = False  # a new (or reset) scene has the default flags
         fast = self.profile == "fast"
-        flags = self._scene.flags
+        flags = self._made_scene().flags
         flags[mujoco.mjtRndFlag.mjRND_SHADOW] = not fast
         flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = False
         flags[mujoco.mjtRndFlag.mjRND_SKYBOX] = False
@@ -309,6 +342,7 @@ class Renderer:
     def close(self) -> None:
         """Release the renderer's GL resources (kept for the next renderer of this thread:
         see :func:`free_spare`)."""
+        self._preparation = None
         if self._context is not None:
             if _forked_after_gl:
                 _inherited.append((self._context, self._scene))
