@@ -94,7 +94,7 @@ from legent_gym.agent.actions import (
     clip_action,
 )
 from legent_gym.agent.body import Body, Outcome
-from legent_gym.envs.factory import EpisodeFactory, PreparedEpisode
+from legent_gym.envs.factory import EpisodeFactory, HelperDied, PreparedEpisode
 from legent_gym.envs.houses import House, HouseAhead, HouseDraw, HouseSource
 from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
 from legent_gym.utils import heap
@@ -306,28 +306,38 @@ class Episode:
         self._next_seed = upcoming[0] if upcoming else None
         return attempts
 
-    def stage(self) -> None:
+    def stage(self) -> bool:
         """Do one piece (about a millisecond) of setting up the episode the next
         :meth:`begin` without a seed plays, once its helper has sent it: load its new house's
         model, put the bodies at their spawns, then upload the house's textures and meshes
-        for its renderer, a piece per call. Front ends call it after each step; the next
-        begin does whatever is left, or drops it if it plays another seed. Without helpers
-        it does nothing. The episode is the same either way: staging changes only when the
-        work is done."""
+        for its renderer and draw its first frame, a piece per call; True if it did one,
+        False if there is nothing to do now. Front ends call it after each step (our vector
+        env's workers while they wait for the next step instead); the next begin does
+        whatever is left, or drops it if it plays another seed. Without helpers it does
+        nothing. The episode is the same either way: staging changes only when the work is
+        done."""
         if self._retired is not None:
             self._release_retired()
-            return
+            return True
         if self._factory is None or self._next_seed is None:
-            return
+            return False
         staged = self._staged
         if staged is None:
-            prepared = self._factory.take_ready(self._next_seed)
-            if prepared is not None:
-                staged = self._staged = _Staged(self._next_seed, prepared)
-                staged.work = self._staging(staged)
-            return
-        if staged.work is not None and next(staged.work, True):
+            try:
+                prepared = self._factory.take_ready(self._next_seed)
+            except HelperDied:  # raised by the next reset, which waits for that episode
+                self._next_seed = None
+                return False
+            if prepared is None:
+                return False
+            staged = self._staged = _Staged(self._next_seed, prepared)
+            staged.work = self._staging(staged)
+            return True
+        if staged.work is None:
+            return False
+        if next(staged.work, True):
             staged.work = None
+        return True
 
     @property
     def staged(self) -> bool:

@@ -281,6 +281,9 @@ class HouseholdEnv(gym.Env):
         self._view_world: World | None = None
         #: render_mode "rgb_array_list": the views of the moments within steps since the last render().
         self._frames_since_render: list[np.ndarray] = []
+        #: With helpers, whether step() does a piece of the next episode's set-up
+        #: (Episode.stage); our vector env's workers call stage_ahead() while they wait instead.
+        self.stage_after_step = True
 
     # -- Gymnasium API -----------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -326,7 +329,8 @@ class HouseholdEnv(gym.Env):
         if self.frames_per_step > 1:
             info["frames"] = np.stack(self._frames_within_step())
         obs = self._observation()
-        self.episode.stage()  # a piece of the next episode's set-up, now that this step's frame is drawn
+        if self.stage_after_step:  # a piece of the next episode's set-up, now that this step's frame is drawn
+            self.episode.stage()
         return obs, reward, bool(terminated), False, info
 
     def _frames_within_step(self) -> list[np.ndarray]:
@@ -338,6 +342,11 @@ class HouseholdEnv(gym.Env):
             if self.render_mode == "rgb_array_list":
                 self._frames_since_render.append(self._third_person())
         return views
+
+    def stage_ahead(self) -> bool:
+        """One piece of the next episode's set-up (:meth:`Episode.stage`); False if none is
+        to be done now."""
+        return self.episode.stage()
 
     def distance_left(self) -> float | None:
         """Geodesic metres to the current sub-goal, or None when nothing measures it."""

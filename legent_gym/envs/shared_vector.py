@@ -697,17 +697,22 @@ class _Channel:
         return counts[0] - counts[1]
 
     # In a worker.
-    def take(self, i: int, conn: Any, lifeline: Any, last: list[int]) -> bytes | None:
+    def take(self, i: int, conn: Any, lifeline: Any, last: list[int],
+             idle: Callable[[], bool] | None = None) -> bytes | None:
         """The next command for worker ``i`` (``last``: the number of the batch of its
         previous one), or None once this process's parent is gone (``lifeline``, the read
-        end of a pipe nobody writes to, then reads as closed)."""
+        end of a pipe nobody writes to, then reads as closed). While none has come, ``idle``
+        is called (it does a short piece of work and says whether it did)."""
         headers = self.views[1]
         children = [c for c in (2 * i + 1, 2 * i + 2) if c < self.n]
         while True:
-            if not self.go[i].acquire(timeout=POLL_SECONDS):
-                if lifeline.poll(0):
-                    return None
-                continue
+            if not self.go[i].acquire(False):
+                if idle is not None and idle():
+                    continue
+                if not self.go[i].acquire(timeout=POLL_SECONDS):
+                    if lifeline.poll(0):
+                        return None
+                    continue
             if headers[_HEADER * i + 5]:
                 for child in children:
                     self.go[child].release()
@@ -749,6 +754,11 @@ def _worker(index: int, env_id: str, kwargs: dict, conn: multiprocessing.connect
         conn.close()
         return
     reply(bytes([_VALUE]) + pickle.dumps(None, _PICKLE))  # ready
+    # An env that sets up its next episode ahead (helpers: Episode.stage) does it here, in
+    # the time the worker waits for the other workers and the next step, not after its steps.
+    idle = getattr(env.unwrapped, "stage_ahead", None)
+    if idle is not None:
+        env.unwrapped.stage_after_step = False  # type: ignore[attr-defined]
     last_batch = [0]
     views = _Views(layout, buffer)
     obs_leaves = list(zip(layout.obs, views.obs))
@@ -775,7 +785,7 @@ def _worker(index: int, env_id: str, kwargs: dict, conn: multiprocessing.connect
     try:
         while True:
             try:
-                message = channel.take(index, conn, lifeline, last_batch)
+                message = channel.take(index, conn, lifeline, last_batch, idle)
             except (EOFError, OSError):  # this process's parent is gone
                 break
             if message is None:

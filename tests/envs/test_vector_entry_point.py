@@ -130,6 +130,27 @@ def test_same_results_as_sync_vector_env():
         sync.close()
 
 
+def test_workers_with_helpers_stage_episodes_while_they_wait():
+    """With helpers, a worker sets up its next episode in the time it waits for the next
+    step (Episode.stage, not after its own steps): the same results as SyncVectorEnv without
+    helpers, and unseeded resets into new houses that were staged."""
+    ours = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="vector_entry_point", max_episode_steps=3,
+                        helpers=1, **SMALL)
+    sync = gym.make_vec(ENV_ID, num_envs=2, vectorization_mode="sync", max_episode_steps=3, **SMALL)
+    try:
+        assert ours.get_attr("stage_after_step") == (False, False)
+        _same(ours.reset(seed=3), sync.reset(seed=3), "reset")
+        for t in range(16):  # five episodes each (an autoreset step after every third step)
+            time.sleep(0.1)  # the workers wait: their helpers answer, they stage
+            actions = (("rotate_right(30)", "move_forward(0.4)"), ("move_forward(0.4)", "rotate_right(-30)"))[t % 2]
+            _same(ours.step(actions), sync.step(actions), f"step {t + 1}")
+        staged = [episode.episodes_staged for episode in ours.get_attr("episode")]
+        assert min(staged) >= 2, staged
+    finally:
+        ours.close()
+        sync.close()
+
+
 def test_sampled_continuous_actions_match_sync_and_stay_in_the_spaces():
     """Gymnasium's vector checks as they apply: sampled Dict actions of the batched action
     space over autoresets (``check_environments_match``'s loop, whose own asserts are for a
