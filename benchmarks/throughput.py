@@ -232,7 +232,7 @@ class _Loop:
 
     def run(self, steps: int) -> dict:
         env, actions, n = self.env, self.actions, len(self.actions)
-        reset_ms, ends, successes = [], 0, 0
+        reset_ms, reset_cpu_ms, ends, successes = [], [], 0, 0
         perf, cpu = time.perf_counter, time.process_time
         wall0, cpu0, tree0 = perf(), cpu(), tree_cpu()
         for _ in range(steps):
@@ -241,11 +241,13 @@ class _Loop:
             if terminated or truncated:
                 ends += 1
                 successes += bool(terminated)
-                start = perf()
+                start, start_cpu = perf(), cpu()
                 env.reset()
                 reset_ms.append((perf() - start) * 1e3)
+                # the stepping process's own work in the reset (not its wait for a helper)
+                reset_cpu_ms.append((cpu() - start_cpu) * 1e3)
         return {"steps": steps, "wall": perf() - wall0, "cpu": cpu() - cpu0, "tree_cpu": tree_cpu() - tree0,
-                "reset_ms": reset_ms, "episodes": ends, "terminated": successes}
+                "reset_ms": reset_ms, "reset_cpu_ms": reset_cpu_ms, "episodes": ends, "terminated": successes}
 
 
 class _VecLoop:
@@ -533,6 +535,9 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
             row["reset_ms_mean"] = statistics.fmean(resets) if resets else None
             row["reset_ms_p99"] = percentile(resets, 99) if resets else None
             row["resets"] = len(resets)
+            reset_cpu = [ms for r in w.results for ms in r.get("reset_cpu_ms", [])]
+            row["reset_cpu_ms"] = statistics.median(reset_cpu) if reset_cpu else None
+            row["reset_cpu_ms_p99"] = percentile(reset_cpu, 99) if reset_cpu else None
             eps = sum(r["episodes"] for r in w.results)
             row["steps_per_episode"] = sum(r["steps"] for r in w.results) / eps if eps else None
             for key, other in (("x_fourrooms", ref), ("x_oneroom", mw1)):
@@ -579,9 +584,9 @@ def _fmt(value, spec: str, missing: str = "") -> str:
 
 def markdown(rows: dict) -> str:
     out = ["| row | steps/s | x MW FourRooms | cpu x MW FourRooms | x MW OneRoom | steps per CPU-s, all processes "
-           "| (x MW FourRooms) | reset ms (median) | reset ms (p99) | reset ms (mean) | steps/episode "
-           "| parent CPU us/step |",
-           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+           "| (x MW FourRooms) | reset ms (median) | reset ms (p99) | reset ms (mean) "
+           "| reset CPU ms (median) | reset CPU ms (p99) | steps/episode | parent CPU us/step |",
+           "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     for name, row in rows.items():
         if row_config(name)["kind"] == "collect":
             continue
@@ -593,7 +598,7 @@ def markdown(rows: dict) -> str:
                 text = row["reason"]
             else:
                 text = f"error: {row['reason']}"
-            out.append(f"| {label} | {text} | | | | | | | | | | |")
+            out.append(f"| {label} | {text} | | | | | | | | | | | | |")
             continue
         extra = f" (N={row_config(name)['num_envs']}/N=1: {row['x_vec1']:.2f})" if "x_vec1" in row else ""
         out.append(f"| {label} | {row['rate']:.0f}{extra} | {_fmt(row.get('x_fourrooms'), '.2f', '1')} | "
@@ -602,7 +607,8 @@ def markdown(rows: dict) -> str:
                    f"{_fmt(row.get('tree_steps_per_cpu_s'), '.0f')} | "
                    f"{_fmt(row.get('tree_x_fourrooms'), '.2f', '1' if name == REFERENCE else '')} | "
                    f"{_fmt(row.get('reset_ms'), '.1f', 'n/a')} | {_fmt(row.get('reset_ms_p99'), '.1f', 'n/a')} | "
-                   f"{_fmt(row.get('reset_ms_mean'), '.1f', 'n/a')} | {_fmt(row.get('steps_per_episode'), '.1f')} | "
+                   f"{_fmt(row.get('reset_ms_mean'), '.1f', 'n/a')} | {_fmt(row.get('reset_cpu_ms'), '.1f', 'n/a')} | "
+                   f"{_fmt(row.get('reset_cpu_ms_p99'), '.1f', 'n/a')} | {_fmt(row.get('steps_per_episode'), '.1f')} | "
                    f"{_fmt(row.get('parent_us_per_step'), '.0f')} |")
     for name in ("collect", "collect-eph8"):
         if name not in rows:
