@@ -15,9 +15,10 @@ What it makes (see ``docs/architecture.md``):
   set directly.
 
 Geom groups (used to show or hide things per view): 0 house and furniture, 1 small
-objects, 2 ceilings and the agent's hands (``GROUP_HANDS``: every camera shows them, view rays
-pass through them; free and top-down views leave the ceilings out geom by geom), 3
-collision only (never drawn), 4 the agent's body but its hands, 5 the user's body.
+objects, 2 ceilings, the outside's ground and sky and the agent's hands (``GROUP_HANDS``: every
+camera shows them, view rays pass through them; free and top-down views leave the ceilings out
+geom by geom), 3 collision only (never drawn), 4 the agent's body but its hands, 5 the user's
+body.
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ from functools import lru_cache
 import mujoco
 import numpy as np
 
+from legent_gym.world import outside
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.gltf import load_imported_asset
 from legent_gym.world.assets.model import AssetModel, Link, Part, box_part
@@ -89,6 +91,9 @@ class BuildOptions:
     #: Whether the user moves its limbs (the PettingZoo envs): an articulated body; else
     #: (the single-agent envs, where the user stands still) one mesh in the idle pose.
     user_articulated: bool = True
+    #: Ground and sky around the house (:mod:`legent_gym.world.outside`), seen through its
+    #: windows and exterior doors; without them those show black.
+    with_outside: bool = True
     #: One geom per part with plain colours and default visual settings: the slow reference
     #: the render benchmark compares against. Never use it for observations.
     naive: bool = False
@@ -241,6 +246,8 @@ class _SpecBuilder:
             self._add_object(obj, asset)
         self._add_avatar("agent", self.options.agent, GROUP_AGENT)
         self._add_avatar("user", self.options.user, GROUP_USER)
+        if self.options.with_outside:
+            self._add_outside()
         self._add_lights()
         self._finish_palette()
         return self.spec, self.palette
@@ -279,7 +286,7 @@ class _SpecBuilder:
             mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "palette"
 
     # -- geometry helpers ------------------------------------------------------------------
-    def _mesh_geom(self, body, mesh: ColouredMesh, *, group: int, name: str) -> None:
+    def _mesh_geom(self, body, mesh: ColouredMesh, *, group: int, name: str, material: str = "palette") -> None:
         """A visual-only mesh geom coloured through the palette."""
         m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
         self._mesh_count += 1
@@ -292,7 +299,7 @@ class _SpecBuilder:
         m.usertexcoord = self._palette_uvs[used].reshape(-1).tolist()
         m.userfacetexcoord = np.repeat(face_texel, 3).tolist()
         m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
-        body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material="palette",
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material=material,
                       contype=0, conaffinity=0, group=group, density=0, name=name)
 
     def _plain_geom(self, body, part: Part, *, group: int, name: str) -> None:
@@ -526,6 +533,26 @@ class _SpecBuilder:
         """A person's part: its link merged into one mesh geom (the parts collide with nothing)."""
         self._link_geoms(body, link, group=group, name=name, movable=True)
 
+    def _add_outside(self) -> None:
+        """Ground and sky (:mod:`legent_gym.world.outside`) on a body added after every
+        other, so no id moves; in the ceilings' group, which no view ray meets; colliding
+        with nothing and with no object id. The sky's material glows (it looks unlit), the
+        ground's a little (a meadow in daylight; shadows still fall on it)."""
+        lo, hi = self.scene.bounds()
+        ground, sky = outside.ground_mesh(lo, hi), outside.sky_mesh(lo, hi)
+        # A static body of their own, the last: its geoms come after every other geom.
+        wb = self.spec.worldbody.add_body(name=outside.BODY)
+        if self.options.naive:
+            for mesh, name in ((ground, "ground"), (sky, "sky")):
+                rgba = (*(mesh.face_rgb[0] / 255.0), 1.0)
+                self._plain_geom(wb, Part(mesh.vertices, mesh.faces, rgba), group=GROUP_CEILING, name=name)
+            return
+        for name, emission in (("sky", 1.0), ("ground", outside.GROUND_GLOW)):
+            material = self.spec.add_material(name=name, emission=emission, specular=0.0, shininess=0.0)
+            material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "palette"
+        self._mesh_geom(wb, ground, group=GROUP_CEILING, name="ground", material="ground")
+        self._mesh_geom(wb, sky, group=GROUP_CEILING, name="sky", material="sky")
+
     def _add_lights(self) -> None:
         wb = self.spec.worldbody
         lights = self.scene.lights
@@ -534,14 +561,30 @@ class _SpecBuilder:
             wb.add_light(pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, 6.0], dir=[0.2, 0.3, -1.0],
                          diffuse=[0.6 * self._style.light_scale] * 3, castshadow=False, name="sun")
             return
-        # OpenGL's fixed pipeline draws at most 8 lights; keep the first 8.
+        # OpenGL's fixed pipeline draws at most 8 lights: the first 8, or with an outside the
+        # first 7 and the daylight.
+        daylight = self.options.with_outside and not self.options.naive
         scale = self._style.light_scale
-        for i, light in enumerate(lights[:8]):
+        for i, light in enumerate(lights[:7 if daylight else 8]):
             wb.add_light(pos=list(light.position), dir=list(light.direction),
                          diffuse=[min(c * scale, 1.0) for c in light.diffuse],
                          type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL if light.directional else mujoco.mjtLightType.mjLIGHT_SPOT,
                          castshadow=light.cast_shadow, cutoff=80.0, exponent=1.0, attenuation=[1.0, 0.05, 0.0],
                          name=f"light_{i}")
+        if daylight:
+            self._add_daylight()
+
+    def _add_daylight(self) -> None:
+        """A directional light from the sky, slanting in through the windows (its shadows
+        drawn in the "pretty" profile), as strong as the style's lights and ambient allow:
+        none in "flat", dim at "night"."""
+        (lo_x, lo_y), (hi_x, hi_y) = self.scene.bounds()
+        top = max((w.height for w in self.scene.walls), default=3.0) + 3.0
+        strength = outside.DAYLIGHT * min(self._style.light_scale, self._style.headlight_ambient)
+        self.spec.worldbody.add_light(
+            pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, top], dir=list(outside.DAYLIGHT_DIRECTION),
+            diffuse=[strength * c for c in outside.DAYLIGHT_RGB], type=mujoco.mjtLightType.mjLIGHT_DIRECTIONAL,
+            castshadow=True, name="daylight")
 
     def _finish_palette(self) -> None:
         if not self.options.naive:
@@ -592,6 +635,8 @@ def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
     except ValueError as err:  # MuJoCo reports compile errors as ValueError
         raise SceneBuildError(f"MuJoCo could not compile scene {scene.name!r}: {err}") from None
     data = mujoco.MjData(model)
+    if options.with_outside:
+        outside.house_statistics(model, data)
 
     geom_object = np.full(model.ngeom, -1, dtype=np.int32)
     geom_door: dict[int, str] = {}

@@ -196,13 +196,14 @@ def test_doors_and_drawers_are_joints(two_room):
 
 
 def test_static_geometry_is_merged(two_room):
-    """Few draw calls: one visual geom per object link, three for the whole house shell."""
+    """Few draw calls: one visual geom per object link, three for the whole house shell, two
+    for its outside (ground and sky)."""
     world = build_world(two_room)
     people = world.geom_segment < -1
     visual = (world.model.geom_group != GROUP_COLLISION) & ~people
     n_links = sum(len(world.assets[o.id].links) for o in two_room.objects)
     n_leaves = sum(d.leaf for d in two_room.doors)
-    assert visual.sum() <= n_links + n_leaves + 3
+    assert visual.sum() <= n_links + n_leaves + 3 + 2
     assert people.sum() == 12 + 10  # one merged mesh per moving part: the agent's hands apart
     naive = build_world(two_room, BuildOptions(naive=True))
     assert (naive.model.geom_group != GROUP_COLLISION).sum() > 3 * visual.sum()
