@@ -26,8 +26,18 @@ def soak(*args, **kwargs) -> SoakReport:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"), initializer=_unnumbered) as pool:
         return pool.submit(soak_here, *args, **kwargs).result()
+
+
+def _unnumbered() -> None:
+    """Name the soak's process without a number: a numbered multiprocessing child is taken
+    for a vector env's worker and pinned to core ``number % cores``
+    (``legent_gym.envs.vector.settle_worker``), so soaks run side by side by pytest-xdist
+    would share one core."""
+    import multiprocessing
+
+    multiprocessing.current_process().name = "soak"
 
 KINDS = ["single", "multi"]
 
