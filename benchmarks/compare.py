@@ -35,7 +35,8 @@ def _last_row(output: str, row: str = "") -> list[float]:
         numbers = []
         for field in (v for v in values if v):
             try:
-                numbers.append(float(field.replace(",", "")))
+                # "1,234" and ratios written "1.36x" read as numbers
+                numbers.append(float(field.replace(",", "").removesuffix("x")))
             except ValueError:
                 numbers = []
                 break
