@@ -44,6 +44,8 @@ observations, one core. Rows (``--only`` names):
   --workers 1`` (its Python function, one core, default formats): successful expert
   trajectories per second, the whole call timed (a fresh DIR each round).
   ``collect-eph8``: the same with ``--env-kwargs '{"episodes_per_house": 8}'``.
+  ``collectN`` (any N > 1): ``--workers N``, ``--collect-episodes`` times N episodes, not
+  pinned, reported with its ratio to ``collect`` (``--scaling`` runs N = 1, 2, 4, ... cores).
 
 Legent's actions are ``benchmarks/step.py``'s random move/turn/tilt text actions, one in ten
 with an interaction appended (``interact()``, ``grab()``, ``put()``, ``open()``,
@@ -71,8 +73,8 @@ decoding observations).
 
 ``--scaling`` measures the async vector env and the vector entry point at N = 1, 2, 4, ...
 up to the cores the process may use (and that count), with a new house every episode,
-``episodes_per_house=8`` and (with ``--helpers`` > 0) helpers, and prints each N's steps/s and its ratio to N=1: the
-run for a many-core machine.
+``episodes_per_house=8`` and (with ``--helpers`` > 0) helpers, and prints each N's steps/s and its ratio to N=1,
+and ``collect`` against ``collectN`` at the same N: the run for a many-core machine.
 
 Headless Miniworld: Miniworld draws with pyglet 1.5 (OpenGL). With no display, a worker sets
 ``PYOPENGL_PLATFORM=egl`` and ``pyglet.options["headless"] = True`` before pyglet or
@@ -169,10 +171,18 @@ def vector_config(name: str) -> dict:
     return {"kind": "vector", "label": label, "env_id": LEGENT_IDS["OneRoom"], "num_envs": n, "kwargs": kwargs}
 
 
+def collect_config(workers: int) -> dict:
+    """``legent-gym collect`` with ``--workers N``, unpinned: its workers take the other cores."""
+    return {"kind": "collect", "env_id": LEGENT_IDS["OneRoom"], "kwargs": {}, "workers": workers, "pinned": False,
+            "label": f"legent-gym collect ComeHere-OneRoom, --workers {workers}"}
+
+
 def row_config(name: str) -> dict:
     """A row's configuration (vector rows of any N: see :func:`vector_config`)."""
     if name in CONFIGS:
         return CONFIGS[name]
+    if name.startswith("collect") and name[7:].isdigit() and int(name[7:]) >= 1:
+        return CONFIGS["collect"] if int(name[7:]) == 1 else collect_config(int(name[7:]))
     bare = name.removeprefix("s")
     if bare.startswith("vec") and bare[3:].split("-")[0].isdigit():
         return vector_config(name)
@@ -310,19 +320,20 @@ class _PoolLoop(_VecLoop):
 
 
 class _CollectLoop:
-    def __init__(self, env_id: str, episodes: int, scratch: Path, env_kwargs: dict):
+    def __init__(self, env_id: str, episodes: int, scratch: Path, env_kwargs: dict, workers: int = 1):
         from legent_gym.data.collect import CollectConfig, collect
 
         self.collect, self.CollectConfig = collect, CollectConfig
-        self.env_id, self.episodes, self.scratch, self.round = env_id, episodes, scratch, 0
-        self.env_kwargs = env_kwargs
+        # N workers collect N times the episodes, so that starting them weighs alike.
+        self.env_id, self.episodes, self.scratch, self.round = env_id, episodes * workers, scratch, 0
+        self.env_kwargs, self.workers = env_kwargs, workers
         self._collect(2)  # warm-up: imports, writers, the first GL context
 
     def _collect(self, episodes: int):
         out = self.scratch / f"collect-{os.getpid()}-{self.round}"
         self.round += 1
         shutil.rmtree(out, ignore_errors=True)
-        config = self.CollectConfig(self.env_id, episodes, str(out), workers=1, seed=0,
+        config = self.CollectConfig(self.env_id, episodes, str(out), workers=self.workers, seed=0,
                                     env_kwargs=dict(self.env_kwargs))
         wall0, cpu0, tree0 = time.perf_counter(), time.process_time(), tree_cpu()
         summary = self.collect(config, show_progress=False)
@@ -395,7 +406,8 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
     elif kind == "collect":
         import legent_gym  # noqa: F401
 
-        loop = _CollectLoop(config["env_id"], args.collect_episodes, Path(args.scratch), config["kwargs"])
+        loop = _CollectLoop(config["env_id"], args.collect_episodes, Path(args.scratch), config["kwargs"],
+                            config.get("workers", 1))
         return loop, facts
     else:
         raise ValueError(kind)
@@ -561,6 +573,11 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
                 row["attempts"] = sum(r["attempts"] for r in w.results)
         rows[name] = row
     for name in workers:
+        if name.startswith("collect") and name[7:].isdigit() and "collect" in workers:
+            one, many = workers["collect"].results, workers[name].results
+            if one and many:
+                rows[name]["x_collect1"] = statistics.median(_rate(b) / _rate(a) for a, b in zip(one, many))
+            continue
         prefix = "svec" if name.startswith("svec") else "vec"
         if not name.startswith(prefix) or name.startswith(f"{prefix}1-") or name == f"{prefix}1":
             continue
@@ -610,14 +627,15 @@ def markdown(rows: dict) -> str:
                    f"{_fmt(row.get('reset_ms_mean'), '.1f', 'n/a')} | {_fmt(row.get('reset_cpu_ms'), '.1f', 'n/a')} | "
                    f"{_fmt(row.get('reset_cpu_ms_p99'), '.1f', 'n/a')} | {_fmt(row.get('steps_per_episode'), '.1f')} | "
                    f"{_fmt(row.get('parent_us_per_step'), '.0f')} |")
-    for name in ("collect", "collect-eph8"):
-        if name not in rows:
-            continue
+    for name in [n for n in rows if row_config(n)["kind"] == "collect"]:
         row = rows[name]
         out.append("")
         if "rate" in row:
-            out.append(f"Collection ({row['label']}, one core): "
-                       f"**{row['rate']:.2f} successful trajectories/s** (median of rounds; "
+            workers = row_config(name).get("workers", 1)
+            where = "one core" if workers == 1 else f"{workers} workers"
+            ratio = f", {row['x_collect1']:.2f}x --workers 1" if "x_collect1" in row else ""
+            out.append(f"Collection ({row['label']}, {where}): "
+                       f"**{row['rate']:.2f} successful trajectories/s**{ratio} (median of rounds; "
                        f"{sum(r['episodes'] for r in row['rounds'])} trajectories in {row['attempts']} attempts).")
         else:
             out.append(f"Collection ({row['label']}): {row['reason']}")
@@ -701,6 +719,7 @@ def main(argv=None) -> int:
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
         names = scaling_rows(cores) + scaling_rows(cores, "-eph8")
         names += scaling_rows(cores, prefix="svec") + scaling_rows(cores, "-eph8", prefix="svec")
+        names += ["collect"] + scaling_rows(cores, prefix="collect")[1:]
         if args.helpers:
             names += scaling_rows(cores, "-helpers") + scaling_rows(cores, "-helpers", prefix="svec")
     unknown = []
