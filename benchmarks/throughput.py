@@ -71,6 +71,12 @@ what a row costs the machine, whatever runs where. ``parent CPU us/step`` (vecto
 the process CPU time of the process that holds the vector env per env-step (receiving and
 decoding observations).
 
+``rawN`` (the reference of scaling): N processes, each drawing a OneRoom house with MuJoCo's
+own ``mujoco.Renderer`` and stepping its physics (``mj_step``) from random agent poses, with
+nothing of ours in between; frames/s summed over the processes (N=1 pinned to one core).
+``rawN / raw1`` is what the machine gives N copies of a plain MuJoCo loop: the ceiling of
+any N-worker ratio on it (shared caches, memory bandwidth, SMT siblings, the GL driver).
+
 ``--scaling`` measures the async vector env and the vector entry point at N = 1, 2, 4, ...
 up to the cores the process may use (and that count), with a new house every episode,
 ``episodes_per_house=8`` and (with ``--helpers`` > 0) helpers, and prints each N's steps/s and its ratio to N=1,
@@ -181,6 +187,10 @@ def row_config(name: str) -> dict:
     """A row's configuration (vector rows of any N: see :func:`vector_config`)."""
     if name in CONFIGS:
         return CONFIGS[name]
+    if name.startswith("raw") and name[3:].isdigit() and int(name[3:]) >= 1:
+        n = int(name[3:])
+        return {"kind": "raw", "num_envs": n, "env_id": LEGENT_IDS["OneRoom"], "pinned": n == 1,
+                "label": f"raw MuJoCo (mj_step + mujoco.Renderer), {n} process{'es' if n > 1 else ''}"}
     if name.startswith("collect") and name[7:].isdigit() and int(name[7:]) >= 1:
         return CONFIGS["collect"] if int(name[7:]) == 1 else collect_config(int(name[7:]))
     bare = name.removeprefix("s")
@@ -348,6 +358,69 @@ class _CollectLoop:
         return self._collect(self.episodes)
 
 
+def _raw_process(env_id: str, size: int, seed: int, conn) -> None:
+    """One process of a ``rawN`` row: a house, MuJoCo's own renderer, frames on request."""
+    sys.path.insert(0, str(HERE))
+    import legent_gym  # noqa: F401, I001  (first: it picks MuJoCo's GL backend)
+    import gymnasium as gym
+    import mujoco
+    import numpy as np
+    from benchmarks_common import StockRender, place_agent_camera
+
+    env = gym.make(env_id, width=size, height=size)
+    env.reset(seed=seed)
+    base = env.unwrapped
+    world = base.episode.world
+    reference = StockRender(base.episode.renderer)
+    lo, hi = world.model.stat.center[:2] - 2.0, world.model.stat.center[:2] + 2.0
+    rng = np.random.default_rng(seed)
+    conn.send("ready")
+    while (frames := conn.recv()) > 0:
+        for _ in range(frames):
+            x, y = rng.uniform(lo, hi)
+            place_agent_camera(world, float(x), float(y), float(rng.uniform(-180, 180)), 0.0)
+            mujoco.mj_step(world.model, world.data)
+            reference.rgb()
+        conn.send(frames)
+    reference.close()
+    env.close()
+
+
+class _RawLoop:
+    """``rawN``: N processes of :func:`_raw_process`, each drawing its share of the frames."""
+
+    def __init__(self, env_id: str, n: int, size: int, seed: int):
+        import multiprocessing as mp
+
+        ctx = mp.get_context("spawn")
+        self.conns, self.procs = [], []
+        for i in range(n):
+            ours, theirs = ctx.Pipe()
+            proc = ctx.Process(target=_raw_process, args=(env_id, size, seed + i, theirs), daemon=True)
+            proc.start()
+            self.conns.append(ours)
+            self.procs.append(proc)
+        for conn in self.conns:
+            if conn.recv() != "ready":
+                raise RuntimeError("a raw MuJoCo process did not start")
+
+    def run(self, steps: int) -> dict:
+        share = max(1, steps // len(self.conns))
+        wall0, tree0 = time.perf_counter(), tree_cpu()
+        for conn in self.conns:
+            conn.send(share)
+        done = sum(conn.recv() for conn in self.conns)
+        return {"steps": done, "wall": time.perf_counter() - wall0, "cpu": None, "tree_cpu": tree_cpu() - tree0,
+                "reset_ms": [], "episodes": 0, "terminated": None}
+
+    def close(self) -> None:
+        for conn in self.conns:
+            with contextlib.suppress(OSError):
+                conn.send(0)
+        for proc in self.procs:
+            proc.join(timeout=10)
+
+
 def _make_worker(config: dict, args) -> tuple[object, dict]:
     """The row's loop, set up and warmed up, and facts about it."""
     kind, seed = config["kind"], args.seed
@@ -403,6 +476,8 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
                                width=args.size, height=args.size, **config["kwargs"])
         loop = (_PoolLoop if "batch_size" in config else _VecLoop)(vec, legent_actions(4096, seed), seed)
         facts["cores"] = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
+    elif kind == "raw":
+        loop = _RawLoop(config["env_id"], config["num_envs"], args.size, args.seed)
     elif kind == "collect":
         import legent_gym  # noqa: F401
 
@@ -427,7 +502,7 @@ def worker_main(name: str, args) -> int:
     os.dup2(2, 1)
     sys.path.insert(0, str(HERE))
     config = row_config(name)
-    if config.get("pinned", True) and (config["kind"] != "vector" or config["num_envs"] == 1):
+    if config.get("pinned", True) and (config["kind"] not in ("vector", "raw") or config["num_envs"] == 1):
         from benchmarks_common import pin_to_one_core
 
         pin_to_one_core()
@@ -457,7 +532,7 @@ def worker_main(name: str, args) -> int:
             return 1
         print(json.dumps({"status": "ok", "result": result}), file=proto)
     with contextlib.suppress(Exception):
-        (loop.vec if hasattr(loop, "vec") else getattr(loop, "env", None)).close()
+        (loop.vec if hasattr(loop, "vec") else getattr(loop, "env", None) or loop).close()
     return 0
 
 
@@ -573,6 +648,11 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
                 row["attempts"] = sum(r["attempts"] for r in w.results)
         rows[name] = row
     for name in workers:
+        if name.startswith("raw") and name != "raw1" and "raw1" in workers:
+            one, many = workers["raw1"].results, workers[name].results
+            if one and many:
+                rows[name]["x_vec1"] = statistics.median(_rate(b) / _rate(a) for a, b in zip(one, many))
+            continue
         if name.startswith("collect") and name[7:].isdigit() and "collect" in workers:
             one, many = workers["collect"].results, workers[name].results
             if one and many:
@@ -719,7 +799,7 @@ def main(argv=None) -> int:
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
         names = scaling_rows(cores) + scaling_rows(cores, "-eph8")
         names += scaling_rows(cores, prefix="svec") + scaling_rows(cores, "-eph8", prefix="svec")
-        names += ["collect"] + scaling_rows(cores, prefix="collect")[1:]
+        names += ["collect"] + scaling_rows(cores, prefix="collect")[1:] + scaling_rows(cores, prefix="raw")
         if args.helpers:
             names += scaling_rows(cores, "-helpers") + scaling_rows(cores, "-helpers", prefix="svec")
     unknown = []
@@ -729,7 +809,7 @@ def main(argv=None) -> int:
         except (KeyError, ValueError):
             unknown.append(n)
     if unknown:
-        parser.error(f"unknown rows {unknown}; known: {', '.join(CONFIGS)} and [s]vecN[-eph8][-helpers]")
+        parser.error(f"unknown rows {unknown}; known: {', '.join(CONFIGS)}, [s]vecN[-eph8][-helpers], collectN and rawN")
     if REFERENCE not in names:
         names.append(REFERENCE)
     known = [n for n in CONFIGS if n in names]
