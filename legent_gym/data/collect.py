@@ -7,13 +7,13 @@ Failed attempts are counted, not kept (as in LEGENT).
 
 Layout of the output directory::
 
-    progress.json            how far the run got (rewritten atomically after each episode)
+    progress.json            how far the run got (rewritten atomically, every COUNT_SECONDS)
     minari/<dataset_id>/     the Minari dataset (MINARI_DATASETS_PATH=OUT/minari)
     legent/                  LEGENT's format and interleaved.jsonl (legent_format.py)
     video/<id>.mp4           captioned H.264 video, video/<id>_map.png the path from above
 
-Each episode is committed in order: its trajectory folder, its video, its Minari episode,
-then ``progress.json``. Whatever a crash interrupts is past the count in ``progress.json``
+Each episode is committed in order: its trajectory folder, its video, its Minari episode
+(encoded by the worker that recorded it), then the Minari count and ``progress.json``. Whatever a crash interrupts is past the count in ``progress.json``
 and is dropped and redone by the next run, which gives the same episode again (same seed).
 
 The attempts are computed by worker processes on this machine or by Ray tasks on a
@@ -28,6 +28,7 @@ import fcntl
 import json
 import math
 import os
+import tempfile
 import time
 from collections.abc import Callable, Generator
 from contextlib import closing
@@ -39,7 +40,12 @@ import gymnasium as gym
 from tqdm import tqdm
 
 from legent_gym.data.legent_format import DEFAULT_WINDOW, LegentWriter, encode_png, episode_pngs
-from legent_gym.data.minari_store import MinariWriter, check_dataset_id
+from legent_gym.data.minari_store import (
+    EncodedEpisode,
+    EpisodeEncoder,
+    MinariWriter,
+    check_dataset_id,
+)
 from legent_gym.data.rollout import EXPERT, Episode, make_env, record_episode, resolve_policy
 from legent_gym.data.video import episode_map, episode_video
 from legent_gym.experts.planners import FIND_STRATEGIES
@@ -55,6 +61,10 @@ PROGRESS_FILE = "progress.json"
 PROGRESS_VERSION = 1
 #: The aggregate files are rewritten at most this often (and at the end).
 CHECKPOINT_SECONDS = 2.0
+#: The counts (progress.json, the Minari count) are written at most this often while
+#: episodes come, so that committing stays cheap beside many workers: a crash loses at most
+#: this long of episodes, which the next run redoes (the same episodes, the same seeds).
+COUNT_SECONDS = 0.25
 
 
 class CollectError(Exception):
@@ -150,6 +160,7 @@ class AttemptResult:
     pngs: list[bytes] | None = None
     video: bytes | None = None
     map_png: bytes | None = None
+    minari: EncodedEpisode | None = None
 
 
 class _Worker:
@@ -161,6 +172,10 @@ class _Worker:
         # Every policy sees info["expert_action"] (a noisy expert or DAgger-style mixing needs it).
         self.env = make_env(env_id, env_kwargs, expert=True, find_strategy=find_strategy)
         self.policy = resolve_policy(policy) if isinstance(policy, str) else policy
+        self.encoder = None
+        if "minari" in formats:  # Minari's encoding here, in parallel; the committing process renames
+            self.encoder = EpisodeEncoder(tempfile.mkdtemp(prefix="legent-minari-"), self.env.observation_space,
+                                          self.env.action_space)
 
     def run(self, attempt: int, seed: int) -> AttemptResult:
         episode = record_episode(self.env, self.policy, seed=seed, attempt=attempt, env_id=self.env_id,
@@ -173,8 +188,9 @@ class _Worker:
         if "video" in self.formats:
             result.video = episode_video(episode)
             result.map_png = encode_png(episode_map(self._scene(), episode))
-        if "minari" not in self.formats:
-            episode.observations = []  # the images travel as PNGs; spare the pipe
+        if self.encoder is not None:
+            result.minari = self.encoder.encode(episode)
+        episode.observations = []  # encoded above: spare the pipe
         return result
 
     def _scene(self) -> Scene:
@@ -186,6 +202,8 @@ class _Worker:
 
     def close(self) -> None:
         self.env.close()
+        if self.encoder is not None:
+            self.encoder.close()
 
 
 _worker: _Worker | None = None
@@ -340,7 +358,14 @@ class _Writers:
             atomic_write_bytes(self.video_dir / f"{traj_id}_map.png", _required(result.map_png, "map"), durable=False)
             atomic_write_bytes(self.video_dir / f"{traj_id}.mp4", _required(result.video, "video"), durable=False)
         if self.minari is not None:
-            self.minari.append(episode, index, {"legent_id": traj_id}, durable=False)
+            # Counted by count(), which the caller calls before progress.json is written.
+            self.minari.append_encoded(_required(result.minari, "Minari episode"), index, {"legent_id": traj_id},
+                                       durable=False, count=False)
+
+    def count(self) -> None:
+        """Write the counts of the episodes committed so far (before progress.json)."""
+        if self.minari is not None:
+            self.minari.write_count(durable=False)
 
     def close(self) -> None:
         if self.legent is not None:
@@ -386,6 +411,7 @@ def _run(config: CollectConfig, policy, out: Path, progress: _Progress, writers:
          checkpoint_seconds: float) -> None:
     # Rewriting the aggregates costs O(dataset); space the rewrites so they stay a few percent.
     last_checkpoint, interval = time.monotonic(), checkpoint_seconds
+    last_count = time.monotonic()
     with closing(_attempt_results(config, policy, progress.next_attempt, config.attempt_limit())) as results:
         for result in results:
             progress.next_attempt = result.attempt + 1
@@ -396,7 +422,10 @@ def _run(config: CollectConfig, policy, out: Path, progress: _Progress, writers:
                 progress.committed += 1
                 progress.total_steps += result.steps
                 progress.complete = progress.committed >= config.episodes
-                _save_progress(out, config, progress, durable=False)
+                if progress.complete or time.monotonic() - last_count >= COUNT_SECONDS:
+                    writers.count()
+                    _save_progress(out, config, progress, durable=False)
+                    last_count = time.monotonic()
                 bar.update(1)
                 if writers.legent is not None and time.monotonic() - last_checkpoint >= interval:
                     began = time.monotonic()
@@ -436,7 +465,8 @@ def collect(config: CollectConfig, *, policy: Callable | None = None, show_progr
                 _run(config, policy or config.policy, out, progress, writers, bar, checkpoint_seconds)
         finally:
             bar.close()
-            writers.close()
+            writers.close()  # counts what was committed
+            _save_progress(out, config, progress, durable=False)
             # Everything was written crash-safe (whole or absent) but without an fsync each;
             # one sync makes the run durable before the final count.
             os.sync()

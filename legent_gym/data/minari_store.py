@@ -9,6 +9,12 @@ between any two steps leaves a dataset that loads with the episodes counted so f
 only reads episodes ``0 .. total_episodes - 1``, so an extra directory is invisible and is
 replaced when the episode is written again.
 
+The encoding (Minari's own encoder: the costly part) and the commit (renames and the count)
+are separate steps: :class:`EpisodeEncoder` turns an episode into the files of its
+directory wherever it was recorded (``legent-gym collect``'s worker processes, in
+parallel), and :meth:`MinariWriter.append_encoded` commits them in the one process that
+owns the dataset, which then writes a few files per episode.
+
 Datasets live under a root directory laid out as Minari's own datasets directory
 (``<root>/<namespace>/<name>-v<version>/data``), so ``minari.load_dataset(dataset_id)``
 finds them with ``MINARI_DATASETS_PATH=<root>``.
@@ -19,6 +25,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -71,6 +78,69 @@ def check_dataset_id(dataset_id: str) -> None:
         raise ValueError(f"invalid Minari dataset id {dataset_id!r}: must be a relative name")
 
 
+@dataclass
+class EncodedEpisode:
+    """An episode in Minari's on-disk form, made by :class:`EpisodeEncoder`: the files of its
+    directory (path relative to it -> bytes), its ``metadata.json`` as a dict (its ``id`` set
+    when it is committed) and its number of steps."""
+
+    files: dict[str, bytes]
+    metadata: dict[str, Any]
+    steps: int
+
+    @property
+    def megabytes(self) -> float:
+        return sum(len(data) for data in self.files.values()) / 1e6
+
+
+class EpisodeEncoder:
+    """Episodes of one dataset's spaces -> :class:`EncodedEpisode`, through a scratch Minari
+    storage in ``scratch`` (a folder of its own: each episode is written there and read
+    back). Made once per process: setting the storage up costs more than an episode."""
+
+    def __init__(self, scratch: str | os.PathLike, observation_space: gym.Space, action_space: gym.Space):
+        # minari: the data extra
+        from minari.dataset.minari_storage import MinariStorage
+
+        self.scratch = Path(scratch).absolute()
+        shutil.rmtree(self.scratch, ignore_errors=True)
+        self.scratch.parent.mkdir(parents=True, exist_ok=True)
+        self.storage = MinariStorage.new(self.scratch, observation_space=observation_space,
+                                         action_space=action_space, data_format=DATA_FORMAT, jpeg_encoding=False)
+        # Minari re-reads metadata.json several times per episode written; the spaces in it
+        # (a Box's bounds element by element) make that slow, and the scratch storage holds
+        # its spaces in memory anyway: keep only the counters.
+        atomic_write_text(self.scratch / METADATA, json.dumps(
+            {"total_episodes": 0, "total_steps": 0, "data_format": DATA_FORMAT, "jpeg_encoding": False}),
+            durable=False)
+
+    def encode(self, episode: Episode) -> EncodedEpisode:
+        # minari: the data extra
+        from minari.data_collector import EpisodeBuffer
+
+        storage = self.storage
+        written = self.scratch / "0"
+        shutil.rmtree(written, ignore_errors=True)
+        storage.update_episodes([EpisodeBuffer(
+            id=0, seed=episode.seed,
+            observations=stack_space(storage.observation_space, episode.observations),
+            actions=stack_space(storage.action_space, episode.actions),
+            rewards=np.asarray(episode.rewards, dtype=np.float64),
+            terminations=np.asarray(episode.terminations, dtype=bool),
+            truncations=np.asarray(episode.truncations, dtype=bool),
+            infos={key: [info[key] for info in episode.infos] for key in episode.infos[0]},
+        )])
+        metadata = json.loads((written / METADATA).read_text())
+        metadata.update(attempt=episode.attempt, success=episode.success, instruction=episode.instruction)
+        files = {str(f.relative_to(written)): f.read_bytes() for f in sorted(written.rglob("*"))
+                 if f.is_file() and f.name != METADATA}
+        shutil.rmtree(written)
+        return EncodedEpisode(files, metadata, episode.steps)
+
+    def close(self) -> None:
+        shutil.rmtree(self.scratch, ignore_errors=True)
+
+
 class MinariWriter:
     """Appends episodes to one Minari dataset under ``root`` (see the module docstring).
 
@@ -87,8 +157,9 @@ class MinariWriter:
         self.dataset_dir = self.root / dataset_id
         self.data_path = self.dataset_dir / "data"
         self._staging_dir = Path(staging).absolute()
-        self._staging = None
+        self._encoder: EpisodeEncoder | None = None
         self._metadata: dict[str, Any] | None = None
+        self._count_written = True
 
     @property
     def exists(self) -> bool:
@@ -148,66 +219,62 @@ class MinariWriter:
         self._write_metadata(durable=True)
 
     # -- appending ---------------------------------------------------------------------------
-    def _staging_storage(self):
-        if self._staging is None:
+    def encoder(self) -> EpisodeEncoder:
+        """An encoder of this dataset's spaces, in the staging directory."""
+        if self._encoder is None:
             # minari: the data extra
             from minari.dataset.minari_storage import MinariStorage
 
             reference = MinariStorage.read(self.data_path)
-            shutil.rmtree(self._staging_dir, ignore_errors=True)
-            self._staging_dir.parent.mkdir(parents=True, exist_ok=True)
-            self._staging = MinariStorage.new(self._staging_dir, observation_space=reference.observation_space,
-                                              action_space=reference.action_space, data_format=DATA_FORMAT,
-                                              jpeg_encoding=False)
-            # Minari re-reads metadata.json several times per episode written; the spaces in it
-            # (a Box's bounds element by element) make that slow, and the staging storage
-            # holds its spaces in memory anyway: keep only the counters.
-            atomic_write_text(self._staging_dir / METADATA, json.dumps(
-                {"total_episodes": 0, "total_steps": 0, "data_format": DATA_FORMAT, "jpeg_encoding": False}),
-                durable=False)
-        return self._staging
+            self._encoder = EpisodeEncoder(self._staging_dir / "encoding", reference.observation_space,
+                                           reference.action_space)
+        return self._encoder
 
     def append(self, episode: Episode, index: int, extra_metadata: dict[str, Any] | None = None,
                *, durable: bool = True) -> None:
         """Write ``episode`` as episode ``index`` (the next one) and count it.
         ``durable=False``: no fsync of the count (see :func:`legent_gym.utils.atomic.atomic_write_bytes`)."""
-        # minari: the data extra
-        from minari.data_collector import EpisodeBuffer
+        self.append_encoded(self.encoder().encode(episode), index, extra_metadata, durable=durable)
 
+    def append_encoded(self, encoded: EncodedEpisode, index: int, extra_metadata: dict[str, Any] | None = None,
+                       *, durable: bool = True, count: bool = True) -> None:
+        """Commit an episode encoded by an :class:`EpisodeEncoder` of this dataset's spaces
+        as episode ``index`` (the next one). ``count=False`` leaves the count on disk as it
+        was until :meth:`write_count` (the episode is committed when the count is written:
+        fewer writes of ``metadata.json`` when many episodes come at once)."""
         metadata = self.metadata()
         if index != int(metadata["total_episodes"]):
             raise ValueError(f"episode {index} is not the next one: the dataset has {metadata['total_episodes']}")
-        staging = self._staging_storage()
-        buffer = EpisodeBuffer(
-            id=index, seed=episode.seed,
-            observations=stack_space(staging.observation_space, episode.observations),
-            actions=stack_space(staging.action_space, episode.actions),
-            rewards=np.asarray(episode.rewards, dtype=np.float64),
-            terminations=np.asarray(episode.terminations, dtype=bool),
-            truncations=np.asarray(episode.truncations, dtype=bool),
-            infos={key: [info[key] for info in episode.infos] for key in episode.infos[0]},
-        )
-        staging.update_episodes([buffer])
-        written = self._staging_dir / str(index)
-        # Our fields join the episode's metadata.json that Minari just wrote (what
-        # update_episode_metadata does, without its second pass over the directory sizes).
-        episode_metadata = json.loads((written / METADATA).read_text())
-        episode_metadata.update(attempt=episode.attempt, success=episode.success, instruction=episode.instruction,
-                                **(extra_metadata or {}))
-        (written / METADATA).write_text(json.dumps(episode_metadata))
+        incoming = self._staging_dir / "incoming"
+        shutil.rmtree(incoming, ignore_errors=True)
+        for name, data in encoded.files.items():
+            path = incoming / name
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_bytes(data)
+        (incoming / METADATA).write_text(json.dumps({**encoded.metadata, "id": index, **(extra_metadata or {})}))
         target = self.data_path / str(index)
         if target.exists():  # left by a crash after the rename, before the count
             shutil.rmtree(target)
-        os.rename(written, target)
+        os.rename(incoming, target)
         metadata.update(total_episodes=index + 1,
-                        total_steps=int(metadata["total_steps"]) + episode.steps,
-                        dataset_size=round(float(metadata.get("dataset_size", 0.0)) + _dir_megabytes(target), 1))
-        self._write_metadata(durable)
+                        total_steps=int(metadata["total_steps"]) + encoded.steps,
+                        dataset_size=round(float(metadata.get("dataset_size", 0.0)) + encoded.megabytes, 1))
+        self._count_written = False
+        if count:
+            self.write_count(durable)
+
+    def write_count(self, durable: bool = True) -> None:
+        """Write the episodes appended so far into ``metadata.json`` (if any is not yet)."""
+        if not self._count_written:
+            self._write_metadata(durable)
+            self._count_written = True
 
     def close(self) -> None:
-        if self._staging is not None:
-            shutil.rmtree(self._staging_dir, ignore_errors=True)
-            self._staging = None
+        self.write_count(durable=False)
+        if self._encoder is not None:
+            self._encoder.close()
+            self._encoder = None
+        shutil.rmtree(self._staging_dir, ignore_errors=True)
 
 
 def load_minari_dataset(root: str | os.PathLike, dataset_id: str):
