@@ -73,7 +73,8 @@ decoding observations).
 
 ``rawN`` (the reference of scaling): N processes, each drawing a OneRoom house with MuJoCo's
 own ``mujoco.Renderer`` and stepping its physics (``mj_step``) from random agent poses, with
-nothing of ours in between; frames/s summed over the processes (N=1 pinned to one core).
+nothing of ours in between; each process draws ``--steps`` frames a round, frames/s summed
+over the processes (N=1 pinned to one core).
 ``rawN / raw1`` is what the machine gives N copies of a plain MuJoCo loop: the ceiling of
 any N-worker ratio on it (shared caches, memory bandwidth, SMT siblings, the GL driver).
 
@@ -405,10 +406,9 @@ class _RawLoop:
                 raise RuntimeError("a raw MuJoCo process did not start")
 
     def run(self, steps: int) -> dict:
-        share = max(1, steps // len(self.conns))
         wall0, tree0 = time.perf_counter(), tree_cpu()
         for conn in self.conns:
-            conn.send(share)
+            conn.send(steps)  # each process: it runs as long as the one process of raw1
         done = sum(conn.recv() for conn in self.conns)
         return {"steps": done, "wall": time.perf_counter() - wall0, "cpu": None, "tree_cpu": tree_cpu() - tree0,
                 "reset_ms": [], "episodes": 0, "terminated": None}
