@@ -572,7 +572,12 @@ class Worker:
         self.proc.stdin.flush()
         reply = self._reply()
         if reply["status"] == "ok":
-            self.results.append(reply["result"])
+            result = reply["result"]
+            self.results.append(result)
+            # As it comes, so that a run stopped early (a time limit) has shown what it measured.
+            cpu = f", {result['tree_cpu']:.2f} CPU-s (all processes)" if result.get("tree_cpu") else ""
+            print(f"    {self.name}: {result['steps']} in {result['wall']:.2f} s = {_rate(result):.1f}/s{cpu}",
+                  file=sys.stderr, flush=True)
         else:
             self.status, self.reason = "error", reply.get("reason", "?") + f" (log: {self.log})"
 
