@@ -444,7 +444,7 @@ class Episode:
                     house.episodes += 1
                     if previous is not None and previous is not house and previous.draw.key not in self._kept:
                         previous = None  # the last reference to a house not kept: its memory is free
-                        heap.trim()  # and its pages go back to the system (legent_gym.utils.heap)
+                        heap.trim(heap.TRIM_GROWTH)  # its pages go back to the system (legent_gym.utils.heap)
                     return attempt + 1
             if not drawn_spawns and (scene is not None or self.houses.house_fixed):
                 raise ValueError(f"task {self.task.name} has no valid goal in house {house.scene.name!r}")
