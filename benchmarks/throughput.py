@@ -849,6 +849,9 @@ def main(argv=None) -> int:
             for w in order[shift:] + order[:shift]:
                 w.run(args.steps)
             print(f"  round {r + 1}/{args.rounds} done", file=sys.stderr, flush=True)
+            if args.json and r + 1 < args.rounds:  # what is measured so far, should the run be stopped
+                _atomic_json(args.json, {"args": {k: v for k, v in vars(args).items() if k != "worker"},
+                                         "rounds_done": r + 1, "rows": summarise(workers, r + 1)})
         for w in workers.values():
             w.close()
         rows = summarise(workers, args.rounds)
