@@ -11,7 +11,7 @@ turns, tilts, speech, interactions, and malformed text that the env answers with
 step), starting a new generated house every ``steps // resets`` steps (or when the episode
 ends). Interleaved with the steps, ``cycles`` times: a second env is made, reset, stepped
 once and closed. At every sample point the process is in the same state (the soaking env
-open, no other env), and the script records resident memory (``VmRSS``, before and after
+open, no other env), and the script records resident memory (before and after
 handing glibc's free heap pages back with ``malloc_trim``, unless ``--no-trim``: the first
 is what the process holds, the second what it uses), open file descriptors, live
 OpenGL and MuJoCo rendering contexts (:func:`legent_gym.utils.gl_backend.live_contexts`) and
@@ -63,7 +63,7 @@ def random_action(rng: np.random.Generator) -> str:
 
 def trim_heap() -> bool:
     """Hand the C heap's free pages back to the system (:func:`legent_gym.utils.heap.trim`); False
-    where there is no glibc. Freed memory that glibc keeps for reuse counts in ``VmRSS``
+    where there is no glibc. Freed memory that glibc keeps for reuse counts in the resident size
     until then, so a resident size measured after this is the memory still in use."""
     from legent_gym.utils import heap
 
@@ -71,12 +71,13 @@ def trim_heap() -> bool:
 
 
 def rss_mb() -> float:
-    """Resident memory of this process, MiB (``VmRSS`` in ``/proc/self/status``)."""
-    with open("/proc/self/status") as status:
-        for line in status:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024.0
-    raise RuntimeError("/proc/self/status has no VmRSS line")
+    """Resident memory of this process, MiB (:func:`legent_gym.utils.heap.resident_bytes`)."""
+    from legent_gym.utils import heap
+
+    size = heap.resident_bytes()
+    if size is None:
+        raise RuntimeError("/proc/self/statm cannot be read: no resident size to measure")
+    return size / 2**20
 
 
 def open_fds() -> int:
@@ -339,7 +340,7 @@ def _mapped_mb() -> tuple[float, float]:
 
 def budget(env_id: str, resets: int = 200, *, size: int = 96, seed: int = 0) -> list[tuple[str, float]]:
     """What one env process's resident memory is made of after ``resets`` new houses with 20
-    random steps each: each component is what taking it away gives back (``VmRSS`` before
+    random steps each: each component is what taking it away gives back (resident size before
     and after; every step ends with ``gc.collect`` and ``malloc_trim``, but the first)."""
     before_import = rss_mb()
     import gymnasium as gym

@@ -388,7 +388,7 @@ def _raw_process(env_id: str, size: int, seed: int, conn) -> None:
 
 
 class _RawLoop:
-    """``rawN``: N processes of :func:`_raw_process`, each drawing its share of the frames."""
+    """``rawN``: N processes of :func:`_raw_process`, each drawing the round's frames."""
 
     def __init__(self, env_id: str, n: int, size: int, seed: int):
         import multiprocessing as mp
@@ -653,25 +653,27 @@ def summarise(workers: dict[str, Worker], rounds: int) -> dict:
                 row["attempts"] = sum(r["attempts"] for r in w.results)
         rows[name] = row
     for name in workers:
-        if name.startswith("raw") and name != "raw1" and "raw1" in workers:
-            one, many = workers["raw1"].results, workers[name].results
+        reference = _one_worker_row(name)
+        if reference is not None and reference[0] in workers:
+            one, many = workers[reference[0]].results, workers[name].results
             if one and many:
-                rows[name]["x_vec1"] = statistics.median(_rate(b) / _rate(a) for a, b in zip(one, many))
-            continue
-        if name.startswith("collect") and name[7:].isdigit() and "collect" in workers:
-            one, many = workers["collect"].results, workers[name].results
-            if one and many:
-                rows[name]["x_collect1"] = statistics.median(_rate(b) / _rate(a) for a, b in zip(one, many))
-            continue
-        prefix = "svec" if name.startswith("svec") else "vec"
-        if not name.startswith(prefix) or name.startswith(f"{prefix}1-") or name == f"{prefix}1":
-            continue
-        rest = name.split("-", 1)[1] if "-" in name else ""
-        one = f"{prefix}1" + (f"-{rest}" if rest and rest != "inline" else "")
-        if one in workers and workers[one].results and workers[name].results:
-            rows[name]["x_vec1"] = statistics.median(
-                _rate(b) / _rate(a) for a, b in zip(workers[one].results, workers[name].results))
+                rows[name][reference[1]] = statistics.median(_rate(b) / _rate(a) for a, b in zip(one, many))
     return rows
+
+
+def _one_worker_row(name: str) -> tuple[str, str] | None:
+    """The N=1 row a scaling row is compared with, and the key of that ratio; None for a
+    row that is no N > 1 row (``collectN`` against ``collect``, ``rawN`` against ``raw1``,
+    ``[s]vecN...`` against ``[s]vec1...`` with the same suffix but ``inline``)."""
+    if name.startswith("collect") and name[7:].isdigit():
+        return ("collect", "x_collect1") if name != "collect1" else None
+    if name.startswith("raw") and name[3:].isdigit():
+        return ("raw1", "x_vec1") if name != "raw1" else None
+    prefix = "svec" if name.startswith("svec") else "vec"
+    if not name.startswith(prefix) or name.startswith(f"{prefix}1-") or name == f"{prefix}1":
+        return None
+    rest = name.split("-", 1)[1] if "-" in name else ""
+    return f"{prefix}1" + (f"-{rest}" if rest and rest != "inline" else ""), "x_vec1"
 
 
 def percentile(values: list[float], q: float) -> float:

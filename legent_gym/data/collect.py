@@ -13,8 +13,9 @@ Layout of the output directory::
     video/<id>.mp4           captioned H.264 video, video/<id>_map.png the path from above
 
 Each episode is committed in order: its trajectory folder, its video, its Minari episode
-(encoded by the worker that recorded it), then the Minari count and ``progress.json``. Whatever a crash interrupts is past the count in ``progress.json``
-and is dropped and redone by the next run, which gives the same episode again (same seed).
+(encoded by the worker that recorded it), then the Minari count and ``progress.json``.
+Whatever a crash interrupts is past the count in ``progress.json`` and is dropped and redone
+by the next run, which gives the same episode again (same seed).
 
 The attempts are computed by worker processes on this machine or by Ray tasks on a
 cluster (``backend``; see :mod:`legent_gym.utils.scale` and ``docs/scale.md``); a task returns

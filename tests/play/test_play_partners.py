@@ -1,6 +1,7 @@
 """``legent-gym play`` as the user with each kind of partner driving the agent (``random``,
 ``module:function``, ``llm`` against a real OpenAI-compatible server on the loopback interface), and
-``--sessions 2``: the real command in a child process, spoken to over its WebSocket."""
+two players at once (``--sessions 2``, two browser tabs): the real command in a child process,
+spoken to over its WebSocket."""
 
 from __future__ import annotations
 
