@@ -23,6 +23,29 @@ def default_mujoco_gl() -> None:
 default_mujoco_gl()
 
 
+def context_class() -> type:
+    """The OpenGL context class of the backend ``MUJOCO_GL`` names now.
+
+    MuJoCo chooses its backend when it is first imported: a program that imports MuJoCo
+    before legent_gym on a machine with no display gets GLFW, which cannot open a context
+    there, although :func:`default_mujoco_gl` has since set ``MUJOCO_GL=egl``. So the EGL
+    and OSMesa classes are taken from their own modules, whatever the import order was."""
+    backend = os.environ.get("MUJOCO_GL", "").strip().lower()
+    # imported here: this module is imported before MuJoCo, to set MUJOCO_GL first
+    if backend == "egl":
+        from mujoco.egl import GLContext
+        return GLContext
+    if backend == "osmesa":
+        from mujoco.osmesa import GLContext
+        return GLContext
+    from mujoco import gl_context  # MuJoCo's own choice (GLFW where there is a display)
+
+    chosen = getattr(gl_context, "GLContext", None)
+    if chosen is None:
+        raise RuntimeError("no OpenGL backend: set MUJOCO_GL to egl or osmesa on a headless machine")
+    return chosen
+
+
 # Live OpenGL contexts, for leak checks: the renderer registers each EGL/OSMesa context it
 # makes ("gl") and each MuJoCo rendering context (``MjrContext``: framebuffers, uploaded
 # meshes and textures, "mjr"). Weak references: an object that is garbage is not counted.
@@ -94,10 +117,9 @@ def describe() -> dict[str, str]:
     """What renders in this process: the backend, the EGL device asked for, and the OpenGL
     vendor, renderer and version of a context made now (``"llvmpipe ..."`` is Mesa's
     software rasteriser on the CPU; an NVIDIA GPU names itself)."""
-    import mujoco  # here: after default_mujoco_gl() has set the backend
-    from OpenGL import GL  # PyOpenGL, a dependency of MuJoCo's EGL and OSMesa backends
-
-    context = mujoco.GLContext(16, 16)
+    context = context_class()(16, 16)
+    # PyOpenGL, a dependency of MuJoCo's EGL and OSMesa backends, imported after them
+    from OpenGL import GL
     try:
         context.make_current()
         info = {name: GL.glGetString(getattr(GL, f"GL_{name.upper()}")).decode()

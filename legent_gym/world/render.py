@@ -104,13 +104,9 @@ def _shared_gl_context(width: int, height: int):
         raise RuntimeError(FORK_AFTER_GL)
     ctx = getattr(_local, "context", None)
     if ctx is None:
-        # the OpenGL backend MUJOCO_GL names, loaded at the first render
-        from mujoco import gl_context
-
-        if gl_context.GLContext is None:
-            raise RuntimeError("no OpenGL backend: set MUJOCO_GL to egl or osmesa on a headless machine")
+        context_class = gl_backend.context_class()
         _made_gl = True
-        ctx = gl_context.GLContext(max(width, 64), max(height, 64))
+        ctx = context_class(max(width, 64), max(height, 64))
         gl_backend.track_context("gl", ctx)
         _local.context = ctx
         _local.is_current = _current_check(ctx)

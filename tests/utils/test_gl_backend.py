@@ -24,16 +24,18 @@ from tests.conftest import REPO
 #: Renders the agent's view of an example house at 32 x 32 and prints what was chosen.
 PROBE = """
 import json, os, sys
+if "mujoco-first" in sys.argv:
+    import mujoco
 import legent_gym
+from legent_gym.utils import gl_backend
 chosen = {"MUJOCO_GL": os.environ.get("MUJOCO_GL"), "PYOPENGL_PLATFORM": os.environ.get("PYOPENGL_PLATFORM")}
-if sys.argv[1:] == ["render"]:
-    from mujoco import gl_context
+if "render" in sys.argv:
     from legent_gym.world import load_scene
     from legent_gym.world.builder import build_world
     from legent_gym.world.render import Renderer
     renderer = Renderer(build_world(load_scene("examples/scenes/one_room.json")), 32, 32, profile="fast")
-    chosen["context"] = gl_context.GLContext.__module__
     chosen["rgb"] = renderer.rgb("agent").tolist()
+    chosen["context"] = gl_backend.context_class().__module__
 print(json.dumps(chosen))
 """
 XVFB = shutil.which("Xvfb")
@@ -44,13 +46,15 @@ needs_xvfb = pytest.mark.skipif(XVFB is None, reason="no Xvfb (Debian: apt-get i
                                                       "installs it with the dev extra)")
 
 
-def probe(render: bool = True, **variables: str) -> tuple[dict, str]:
-    """What a fresh ``import legent_gym`` chooses, with ``variables`` as the only display
-    and OpenGL variables set; and what else it wrote (stderr, other lines of stdout)."""
+def probe(render: bool = True, mujoco_first: bool = False, **variables: str) -> tuple[dict, str]:
+    """What a fresh ``import legent_gym`` chooses (after ``import mujoco`` if
+    ``mujoco_first``), with ``variables`` as the only display and OpenGL variables set; and
+    what else it wrote (stderr, other lines of stdout)."""
     env = {k: v for k, v in os.environ.items()
            if k not in ("MUJOCO_GL", "PYOPENGL_PLATFORM", "DISPLAY", "WAYLAND_DISPLAY")}
     env.update(variables)
-    done = subprocess.run([sys.executable, "-c", PROBE, *(["render"] if render else [])], cwd=REPO, env=env,
+    flags = (["render"] if render else []) + (["mujoco-first"] if mujoco_first else [])
+    done = subprocess.run([sys.executable, "-c", PROBE, *flags], cwd=REPO, env=env,
                           capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stderr[-3000:]
     printed = [line for line in done.stdout.splitlines() if line.startswith("{")]
@@ -84,6 +88,14 @@ def xvfb() -> Iterator[str]:
 
 def test_no_display_no_choice_is_egl(egl_frame):
     assert egl_frame.shape == (32, 32, 3) and egl_frame.std() > 5  # a picture, not a blank
+
+
+def test_mujoco_imported_first_still_renders_through_egl(egl_frame):
+    """A program that imports MuJoCo before legent_gym on a machine with no display (MuJoCo
+    then picks GLFW, which needs one) renders the same frame through EGL."""
+    chosen, stderr = probe(mujoco_first=True)
+    assert chosen["MUJOCO_GL"] == "egl" and chosen["context"] == "mujoco.egl"
+    assert np.array_equal(np.array(chosen["rgb"], dtype=np.uint8), egl_frame)
 
 
 @needs_osmesa
