@@ -17,7 +17,9 @@ observations, one core. Rows (``--only`` names):
   ``--house-count`` scenes written by ``legent-gym generate --count N --out-dir DIR`` (before
   timing). Where the env does not know the keyword (TypeError) or the CLI has no
   ``--count``, the row says "n/a (not supported by this version)". ``*-houses-kept``: the
-  same with ``houses_kept=N`` (every house of the folder kept once built);
+  same with ``houses_kept=N`` (every house of the folder kept once built); ``*-houses-cache``:
+  the same with ``house_cache=DIR2`` (``legent_gym/envs/house_store.py``), every house of the
+  folder built and stored there before timing, so that each is loaded, not built;
 * ``mw-oneroom``, ``mw-fourrooms``: Miniworld's ``MiniWorld-OneRoom-v0`` and
   ``MiniWorld-FourRooms-v0`` with ``obs_width=96, obs_height=96`` and Miniworld's own episode
   caps (180 and 250 steps), random discrete actions, the same loop. ``mw-fourrooms`` is the
@@ -126,6 +128,9 @@ def _configs() -> dict[str, dict]:
         rows[f"{low}-houses-kept"] = {"kind": "legent", "label": f"{env_id}, houses=DIR, houses_kept=N",
                                       "env_id": env_id, "kwargs": {"houses": None, "houses_kept": None},
                                       "layout": layout}
+        rows[f"{low}-houses-cache"] = {"kind": "legent", "label": f"{env_id}, houses=DIR, house_cache=CACHE",
+                                       "env_id": env_id, "kwargs": {"houses": None, "house_cache": None},
+                                       "layout": layout}
     rows["mw-oneroom"] = {"kind": "miniworld", "label": "MiniWorld-OneRoom-v0", "env_id": "MiniWorld-OneRoom-v0"}
     rows["mw-fourrooms"] = {"kind": "miniworld", "label": "MiniWorld-FourRooms-v0",
                             "env_id": "MiniWorld-FourRooms-v0"}
@@ -456,7 +461,15 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
             kwargs["houses"] = args.houses[config["layout"]]
         if "houses_kept" in kwargs:
             kwargs["houses_kept"] = args.house_count
+        if "house_cache" in kwargs:
+            kwargs["house_cache"] = str(Path(args.scratch) / "house-cache" / config["layout"])
         env = gym.make(config["env_id"], width=args.size, height=args.size, **kwargs)
+        if "house_cache" in kwargs:  # every house of the folder stored before timing
+            store = env.unwrapped.episode.house_store
+            for fill_seed in range(50 * args.house_count):
+                if store.stored >= args.house_count:
+                    break
+                env.reset(seed=10**6 + fill_seed)
         loop = _Loop(env, legent_actions(4096, seed), seed)
         facts["episode_cap"] = env.spec.max_episode_steps
     elif kind == "vector":

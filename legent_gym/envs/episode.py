@@ -95,6 +95,7 @@ from legent_gym.agent.actions import (
 )
 from legent_gym.agent.body import Body, Outcome
 from legent_gym.envs.factory import EpisodeFactory, HelperDied, PreparedEpisode
+from legent_gym.envs.house_store import HouseStore
 from legent_gym.envs.houses import House, HouseAhead, HouseDraw, HouseSource
 from legent_gym.tasks.base import Evaluation, Task, TaskContext, TaskInstance
 from legent_gym.utils import heap
@@ -179,11 +180,13 @@ class Episode:
             with helpers).
         houses_kept: the most built houses kept for reuse (module docstring).
         helpers: processes that prepare the coming episodes (module docstring).
+        house_store: a folder of built houses that houses given again are loaded from
+            and stored in (:mod:`legent_gym.envs.house_store`).
     """
 
     def __init__(self, task: Task, houses: HouseSource, build_options: BuildOptions, observing: Observing, *,
                  reach: float, limits: ActionLimits, episodes_per_house: int = 1, prepare_ahead: bool = False,
-                 houses_kept: int = HOUSE_CACHE_SIZE, helpers: int = 0):
+                 houses_kept: int = HOUSE_CACHE_SIZE, helpers: int = 0, house_store: HouseStore | None = None):
         if isinstance(episodes_per_house, bool) or not isinstance(episodes_per_house, int | np.integer) \
                 or episodes_per_house < 1:
             raise ValueError(f"episodes_per_house must be a positive integer, got {episodes_per_house!r}")
@@ -191,6 +194,8 @@ class Episode:
         if isinstance(houses_kept, bool) or not isinstance(houses_kept, int | np.integer) or houses_kept < 1:
             raise ValueError(f"houses_kept must be a positive integer, got {houses_kept!r}")
         self.houses_kept = int(houses_kept)
+        #: Where houses given again are stored once built (None: nowhere).
+        self.house_store = house_store
         self.task = task
         self.houses = houses
         self.build_options = build_options
@@ -535,16 +540,27 @@ class Episode:
 
     def _make_house(self, draw: HouseDraw) -> House:
         with self._build_lock:
+            store = self.house_store
+            if store is not None:
+                stored = store.load(draw, with_binary=self.keep_binaries)
+                if stored is not None:
+                    return stored
             scene, nav = draw.load()
             world = build_world(scene, self.build_options)
             if nav is None or nav.agent_radius != self.build_options.agent.radius:
                 nav = NavGrid.from_scene(scene, agent_radius=self.build_options.agent.radius)
             seed = scene.seed if draw.spawns_drawn else draw.seed
             binary = None
-            if self.keep_binaries:  # as built, before any episode touches the model
+            storing = store is not None and draw.recipe is not None
+            if self.keep_binaries or storing:  # as built, before any episode touches the model
                 binary = np.empty(mujoco.mj_sizeModel(world.model), np.uint8)
                 mujoco.mj_saveModel(world.model, None, binary)
-            return House(draw, scene, world, nav, capture(world), seed, binary=binary)
+            house = House(draw, scene, world, nav, capture(world), seed,
+                          binary=binary if self.keep_binaries else None)
+            if storing:
+                assert store is not None and binary is not None
+                store.save(house, binary)
+            return house
 
     def _build(self, draw: HouseDraw, keep: bool) -> House:
         house = self._make_house(draw)

@@ -173,14 +173,16 @@ class HousePayload:
 
     @classmethod
     def of(cls, house: House, model_path: str, shipped: set[tuple[str, int]]) -> HousePayload:
-        """The payload of ``house``; the library models named in ``shipped`` (what the
-        env was sent before) are named, not shipped, and ``shipped`` gets the rest."""
-        assert house.binary is not None, "the helper keeps its houses' binaries"
-        Path(model_path).write_bytes(house.binary.tobytes())
+        """The payload of ``house``, whose model as built is at ``model_path`` (MuJoCo's
+        binary); the library models named in ``shipped`` (what the env was sent before)
+        are named, not shipped, and ``shipped`` gets the rest."""
         world, built = house.world, house.built
-        assert built.data is not None, "a helper's houses are built in its process"
-        state = np.empty(mujoco.mj_stateSize(world.model, STATE))
-        mujoco.mj_getState(world.model, built.data, state, STATE)
+        if built.data is not None:
+            state = np.empty(mujoco.mj_stateSize(world.model, STATE))
+            mujoco.mj_getState(world.model, built.data, state, STATE)
+        else:  # a house loaded as a payload (legent_gym.envs.house_store) keeps that state alone
+            assert built.integration is not None
+            state = built.integration
         draw = house.draw
         tables = {name: getattr(world, name) for name in WORLD_TABLES}
         refs: dict[int, tuple[str, int] | None] = dict.fromkeys(world.assets)
@@ -252,7 +254,10 @@ def prepare(episode: Episode, seed: int, known: set, folder: str, shipped: Colle
     key = house.draw.key
     payload = None
     if key not in known and key not in shipped:
-        payload = HousePayload.of(house, os.path.join(folder, f"{os.getpid()}-{seed}.mjb"), _SHIPPED_ASSETS)
+        assert house.binary is not None, "the helper keeps its houses' binaries"
+        model_path = os.path.join(folder, f"{os.getpid()}-{seed}.mjb")
+        Path(model_path).write_bytes(house.binary.tobytes())
+        payload = HousePayload.of(house, model_path, _SHIPPED_ASSETS)
     return PreparedEpisode(seed, attempts, key, payload, house.episodes, ctx.scene.agent, ctx.scene.user, goal,
                            ctx.cached_distances())
 

@@ -22,6 +22,7 @@ from legent_gym.envs.action_spaces import (
     text_action_space,
 )
 from legent_gym.envs.episode import HOUSE_CACHE_SIZE, Episode, Observing
+from legent_gym.envs.house_store import HouseStore
 from legent_gym.envs.houses import HouseSource
 from legent_gym.envs.vector import settle_worker
 from legent_gym.tasks import make_task
@@ -164,6 +165,10 @@ class HouseholdEnv(gym.Env):
       restored as built (see :mod:`legent_gym.envs.episode`).
     * ``houses_kept``: the most built houses kept for reuse (default 8; a few megabytes
       each): a ``houses`` folder of N houses with ``houses_kept`` >= N builds each once.
+    * ``house_cache``: a folder where the houses of ``houses``, ``house_seed`` and
+      ``house_pool`` are stored once built (about 2 MB each), for every process and run
+      that uses the same folder to load instead of building them (default None: not
+      stored; see :mod:`legent_gym.envs.house_store`).
     * ``pin_worker``: in a vector env's worker process, pin it to one core and render in one
       thread (default True; see :mod:`legent_gym.envs.vector`).
     * ``prepare_ahead``: make the next house in a background thread at the lowest CPU
@@ -218,7 +223,7 @@ class HouseholdEnv(gym.Env):
                  task_options: dict[str, Any] | None = None, houses: str | Path | None = None,
                  episodes_per_house: int = 1, houses_kept: int = HOUSE_CACHE_SIZE, pin_worker: bool = True,
                  prepare_ahead: bool | None = None, helpers: int = 0, tasks: str | Path | list | None = None,
-                 frames_per_step: int = 1, user_moves: bool = False):
+                 frames_per_step: int = 1, user_moves: bool = False, house_cache: str | Path | None = None):
         if camera not in CAMERA_PRESETS:
             raise ValueError(f"unknown camera preset {camera!r}; known: {', '.join(CAMERA_PRESETS)}")
         if action_type not in ("text", "continuous"):
@@ -254,6 +259,7 @@ class HouseholdEnv(gym.Env):
                                Observing(self.width, self.height, depth, segmentation), reach=reach,
                                limits=ActionLimits(), episodes_per_house=episodes_per_house,
                                houses_kept=houses_kept, helpers=helpers,
+                               house_store=None if house_cache is None else HouseStore(house_cache, build_options),
                                prepare_ahead=(self.worker_core is not None and not helpers) if prepare_ahead is None
                                else prepare_ahead)
 

@@ -41,6 +41,10 @@ class HouseDraw:
     spawns_drawn: bool = False
     #: The source may give this house again (kept for that; a new random seed is not).
     repeats: bool = True
+    #: () -> the bytes that make this house (a scene file's, or its generation's key): what
+    #: names it in a store of built houses (:mod:`legent_gym.envs.house_store`); None for a
+    #: house not stored (a new random seed, a scene given as an object).
+    recipe: Callable[[], bytes] | None = field(default=None, compare=False)
 
 
 class HouseSource:
@@ -90,7 +94,8 @@ class HouseSource:
             return HouseDraw(("scene", id(scene)), None, lambda: (scene, None))
         if self.files is not None:
             path = self.files[int(rng.integers(len(self.files)))]
-            return HouseDraw(("file", str(path)), None, lambda: (load_scene(path), None), spawns_drawn=True)
+            return HouseDraw(("file", str(path)), None, lambda: (load_scene(path), None), spawns_drawn=True,
+                             recipe=path.read_bytes)
         if self.house_pool:
             seed = self.house_pool[self.pool_index % len(self.house_pool)]
             self.pool_index += 1
@@ -102,7 +107,7 @@ class HouseSource:
         key = ("seed", self.layout, seed, repr(sorted(conditions.items())))
         # The generator's own navigation grid of the house comes along (cheaper than a new one).
         return HouseDraw(key, seed, lambda: generate_house_with_grid(seed, self.layout, **conditions),
-                         repeats=self.seed_fixed)
+                         repeats=self.seed_fixed, recipe=(lambda: repr(key).encode()) if self.seed_fixed else None)
 
 
 @dataclass
