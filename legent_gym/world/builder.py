@@ -63,6 +63,8 @@ GROUP_HANDS = GROUP_CEILING
 #: What a person's pixels carry in segmentation images (scene objects carry their ids,
 #: which are never negative; -1 is house, doors and background).
 PERSON_SEGMENTATION_ID = {"user": -2, "agent": -3}
+#: The texture (and material) of the palette every merged mesh takes its colours from.
+PALETTE_TEXTURE = "palette"
 
 FLOOR_THICKNESS = 0.05
 DOOR_LEAF_THICKNESS = 0.04
@@ -279,14 +281,14 @@ class _SpecBuilder:
         spec.visual.headlight.diffuse = [style.headlight_diffuse] * 3
         spec.visual.headlight.specular = [0.0, 0.0, 0.0]
         if not self.options.naive:
-            tex = spec.add_texture(name="palette", type=mujoco.mjtTexture.mjTEXTURE_2D,
+            tex = spec.add_texture(name=PALETTE_TEXTURE, type=mujoco.mjtTexture.mjTEXTURE_2D,
                                    width=self.palette.size, height=self.palette.size, nchannel=3)
             self._palette_texture = tex
-            mat = spec.add_material(name="palette", specular=0.1, shininess=0.2)
-            mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "palette"
+            mat = spec.add_material(name=PALETTE_TEXTURE, specular=0.1, shininess=0.2)
+            mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = PALETTE_TEXTURE
 
     # -- geometry helpers ------------------------------------------------------------------
-    def _mesh_geom(self, body, mesh: ColouredMesh, *, group: int, name: str, material: str = "palette") -> None:
+    def _mesh_geom(self, body, mesh: ColouredMesh, *, group: int, name: str, material: str = PALETTE_TEXTURE) -> None:
         """A visual-only mesh geom coloured through the palette."""
         m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
         self._mesh_count += 1
@@ -549,7 +551,7 @@ class _SpecBuilder:
             return
         for name, emission in (("sky", 1.0), ("ground", outside.GROUND_GLOW)):
             material = self.spec.add_material(name=name, emission=emission, specular=0.0, shininess=0.0)
-            material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "palette"
+            material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = PALETTE_TEXTURE
         self._mesh_geom(wb, ground, group=GROUP_CEILING, name="ground", material="ground")
         self._mesh_geom(wb, sky, group=GROUP_CEILING, name="sky", material="sky")
 

@@ -41,6 +41,7 @@ from legent_gym.world.builder import (
     GROUP_CEILING,
     GROUP_COLLISION,
     GROUP_USER,
+    PALETTE_TEXTURE,
     World,
 )
 from legent_gym.world.culling import FrustumCull
@@ -193,6 +194,25 @@ def _retargeting(context: mujoco.MjrContext, model: mujoco.MjModel) -> Iterator[
         mujoco.mjr_uploadMesh(model, context, i)
 
 
+def _sample_palette_nearest(context: mujoco.MjrContext, model: mujoco.MjModel) -> None:
+    """Sample the palette texture at its nearest texel, not trilinearly from mipmaps.
+
+    Every face of a palette-coloured mesh has its texture coordinates at the centre of its
+    colour's texel, so the nearest texel is the colour itself: the same pixels (where a
+    mipmap of a far face blends neighbouring colours, the face's own colour instead) for
+    less work per fragment, which llvmpipe pays for on the CPU (about a tenth of a 96 px
+    frame: ``benchmarks/render.py``). MuJoCo sets trilinear filtering when it uploads a
+    texture, so this runs after every upload."""
+    palette = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TEXTURE, PALETTE_TEXTURE)
+    if palette < 0:
+        return
+    from OpenGL import GL  # after the backend is chosen (legent_gym.utils.gl_backend)
+
+    GL.glBindTexture(GL.GL_TEXTURE_2D, int(context.texture[palette]))
+    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MIN_FILTER, GL.GL_NEAREST)
+    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MAG_FILTER, GL.GL_NEAREST)
+
+
 def _scene_size(model: mujoco.MjModel) -> int:
     return max(1000, model.ngeom + 100)
 
@@ -326,6 +346,7 @@ class Renderer:
                 yield
                 _shared_gl_context(self.width, self.height)
         self._context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
+        _sample_palette_nearest(self._context, model)
         self._segmented = False  # a new (or reset) scene has the default flags
         fast = self.profile == "fast"
         flags = self._made_scene().flags
@@ -371,6 +392,7 @@ class Renderer:
         _shared_gl_context(self.width, self.height)
         for tid in range(self.world.model.ntex):
             mujoco.mjr_uploadTexture(self.world.model, self._context, tid)
+        _sample_palette_nearest(self._context, self.world.model)
 
     # -- cameras -------------------------------------------------------------------------
     def _setup_camera(self, camera: CameraSpec) -> None:
