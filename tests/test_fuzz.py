@@ -107,7 +107,7 @@ def _mutate(data: dict, path: tuple, mutation: str, value) -> None:
     elif mutation == "extra key":
         target = old if isinstance(old, dict) else parent if isinstance(parent, dict) else None
         if target is not None:
-            target["unexpected_field"] = value
+            target["extra_field"] = value  # a name without "unexpected", which _check_cli looks for
     elif mutation == "duplicate" and isinstance(parent, list):
         parent.append(copy.deepcopy(old))
 

@@ -44,7 +44,7 @@ def setup(tmp_path_factory):
 def overfit(setup):
     """The tiny model fine-tuned (full) until it reproduces its four trajectories."""
     root, base = setup
-    config = FinetuneConfig(str(base), (str(root / "data"),), str(root / "full"), epochs=40, batch_size=2,
+    config = FinetuneConfig(str(base), (str(root / "data"),), str(root / "full"), epochs=60, batch_size=2,
                             grad_accum=1, lr=5e-3, weight_decay=0.1, warmup=0.0, lora=False)
     metrics = train(config, resume=False, show_progress=False)
     return root / "full" / FINAL, metrics
@@ -243,7 +243,7 @@ def test_idefics3(setup, tmp_path):
     for row, sample in enumerate(samples):
         trained = (batch["labels"][row] != IGNORE).nonzero().flatten()
         assert processor.tokenizer.decode(batch["input_ids"][row][trained]) == sample.target + "<end_of_utterance>\n"
-    config = FinetuneConfig(str(base), (str(root / "data"),), str(tmp_path / "run"), epochs=12, batch_size=2,
+    config = FinetuneConfig(str(base), (str(root / "data"),), str(tmp_path / "run"), epochs=24, batch_size=2,
                             grad_accum=1, lr=5e-3, weight_decay=0.1, warmup=0.0, lora=False)
     metrics = train(config, resume=False, show_progress=False)
     assert metrics["finished"] and metrics["token_accuracy"] > 0.5

@@ -154,17 +154,26 @@ def test_perturbed_collection_depends_on_the_seed_alone_and_keeps_the_labels(tmp
 
 
 def test_scan_collection_records_the_looking_expert(tmp_path):
-    """``--find-strategy scan``: Where Is demonstrations whose turns before the answer are
-    the scan's fixed looks; the strategy is part of what a resumed run must share."""
+    """``--find-strategy scan``: Where Is demonstrations in which an object out of view is
+    found by the scan's fixed looks, where the direct expert turns straight to it (an object
+    in view at the start is approached the same way by both); the strategy is part of what a
+    resumed run must share."""
+
+    def actions(strategy: list[str], folder: str) -> list[list[str]]:
+        out = tmp_path / folder
+        assert main(["collect", "Legent/WhereIs-OneRoom-v0", "--episodes", "3", "--out", str(out), "--format",
+                     "legent", "--width", "32", "--height", "32", "--quiet", *strategy]) == 0
+        trajectories = load_trajectories(out / "legent")
+        assert len(trajectories) == 3 and all(t["success"] for t in trajectories)
+        return [[s["action"] for s in t["interactions"][1]["trajectory"]] for t in trajectories]
+
+    scanned, direct = actions(["--find-strategy", "scan"], "scan"), actions([], "direct")
+    assert all(a[-1].startswith("speak(") for a in scanned)
+    differing = [(s, d) for s, d in zip(scanned, direct) if s != d]
+    assert differing, "no episode's object started out of view: the strategies were not compared"
+    for s, d in differing:
+        assert s[0].startswith("rotate_right(60)") and not d[0].startswith("rotate_right(60)"), (s, d)
     out = tmp_path / "scan"
-    assert main(["collect", "Legent/WhereIs-OneRoom-v0", "--episodes", "3", "--out", str(out), "--format",
-                 "legent", "--width", "32", "--height", "32", "--quiet", "--find-strategy", "scan"]) == 0
-    trajectories = load_trajectories(out / "legent")
-    assert len(trajectories) == 3 and all(t["success"] for t in trajectories)
-    for t in trajectories:
-        actions = [s["action"] for s in t["interactions"][1]["trajectory"]]
-        assert actions[-1].startswith("speak(")
-        assert all(a.startswith("rotate_right(60)") for a in actions[:-1]), actions
     config = CollectConfig("Legent/WhereIs-OneRoom-v0", 3, str(out), formats=("legent",),
                            env_kwargs={"width": 32, "height": 32})
     with pytest.raises(CollectError, match="find_strategy"):

@@ -269,9 +269,11 @@ def test_where_is_asks_legents_objects_on_legents_receptacles():
 
 def test_no_task_options_leaves_every_episode_as_it_was():
     # Conditions drawn for a restricted WhereIs come from the house seed, not the env's
-    # stream, so without options (or with none given) every task draws exactly as before
-    # task_options existed: these are the houses and questions recorded before it.
-    recorded = {("WhereIs", 3): (1742692731, "Where is the toy?"), ("WhereIs", 8): (1545220601, "Where's the toy?"),
+    # stream, so without options (or with none given) every task draws exactly as without
+    # task_options: these houses and questions were recorded so (the house seeds before
+    # task_options existed; the questions again at GENERATOR_VERSION 2, whose houses hold
+    # other objects).
+    recorded = {("WhereIs", 3): (1742692731, "Where is the phone?"), ("WhereIs", 8): (1545220601, "Where's the book?"),
                 ("ComeHere", 8): (1545220601, "Come to me.")}
     for (task, seed), expected in recorded.items():
         for options in (None, {}):

@@ -14,6 +14,9 @@ import legent_gym.world.assets  # noqa: F401  (registers the library)
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.library.common import MATERIALS, ROOM_TYPES
 from legent_gym.world.assets.model import AssetModel, Part
+from tests.world.sizes_decor import SIZES as DECOR_SIZES
+from tests.world.sizes_kitchenware import SIZES as KITCHENWARE_SIZES
+from tests.world.sizes_office_bath import SIZES as OFFICE_BATH_SIZES
 
 VARIANTS = range(10)
 
@@ -59,6 +62,9 @@ OBJECTS = {
     "remote": ((0.03, 0.13, 0.012), (0.06, 0.23, 0.03)),
     "phone": ((0.06, 0.13, 0.006), (0.085, 0.17, 0.012)),
     "toy": ((0.04, 0.04, 0.03), (0.2, 0.2, 0.25)),
+    **KITCHENWARE_SIZES,
+    **DECOR_SIZES,
+    **OFFICE_BATH_SIZES,
 }
 FURNITURE_TRIANGLES, OBJECT_TRIANGLES = 400, 160
 #: Moving links: the joint kind of each articulated asset.
@@ -126,7 +132,7 @@ def _centroid(parts: list[Part]) -> np.ndarray:
 
 def test_every_listed_asset_is_registered():
     assert set(FURNITURE) | set(OBJECTS) <= set(BUILTIN)
-    assert len(OBJECTS) == 17
+    assert len(OBJECTS) == 50 and sum(registry.describe(a).pickupable for a in BUILTIN) >= 50
     assert set(BUILTIN) <= set(FURNITURE) | set(OBJECTS), "a new built-in needs a size range here"
 
 

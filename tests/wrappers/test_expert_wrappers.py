@@ -113,7 +113,8 @@ def test_a_held_object_hides_nothing_from_the_view_tests():
     ctx = env.unwrapped.episode.ctx
     while ctx.agent.state.held is None:
         _, _, terminated, truncated, info = env.step(info["expert_action"])
-        assert not (terminated or truncated)
+        # (the grab itself may end the episode: a target already near the user)
+        assert ctx.agent.state.held is not None or not (terminated or truncated)
     held = ctx.agent.state.held
     eye = ctx.agent.camera_position
     centre = ctx.object_centre(held)

@@ -29,25 +29,35 @@ from legent_gym.world.geometry import (
 #: Furniture category -> small-object categories that plausibly rest on it.
 PLAUSIBLE: dict[str, tuple[str, ...]] = {
     "kitchen_counter": ("apple", "orange", "banana", "pear", "tomato", "mug", "cup", "bowl", "plate",
-                        "bottle", "cola_can"),
+                        "bottle", "cola_can", "lemon", "potato", "bread", "kettle", "cooking_pot", "frying_pan",
+                        "cutting_board", "jar", "teapot", "milk_carton", "wine_glass"),
     "dining_table": ("plate", "bowl", "cup", "mug", "apple", "orange", "banana", "pear", "vase", "bottle",
-                     "cola_can"),
+                     "cola_can", "wine_glass", "bread", "teapot", "jar", "lemon", "candle"),
     "coffee_table": ("remote", "book", "mug", "cup", "vase", "cola_can", "apple", "orange", "banana",
-                     "laptop", "phone", "bowl"),
-    "side_table": ("book", "remote", "phone", "mug", "vase", "cup", "cola_can"),
-    "desk": ("laptop", "book", "mug", "phone", "cup", "cola_can", "bottle"),
-    "nightstand": ("book", "phone", "cup", "remote", "bottle"),
-    "dresser": ("vase", "book", "toy", "remote", "phone", "bottle"),
-    "bookshelf": ("book", "vase", "toy"),
-    "tv_stand": ("remote", "vase", "book", "toy"),
-    "sofa": ("remote", "phone", "toy", "book", "orange", "apple", "banana", "cola_can"),
-    "armchair": ("book", "phone", "remote", "toy"),
-    "chair": ("book", "toy", "phone"),
-    "bed": ("book", "toy", "phone", "laptop"),
-    "sink": ("bottle", "cup"),
-    "bathtub": ("bottle", "toy"),
-    "fridge": ("bottle", "bowl"),
+                     "laptop", "phone", "bowl", "candle", "game_controller", "tissue_box", "figurine",
+                     "potted_plant", "notebook", "tablet"),
+    "side_table": ("book", "remote", "phone", "mug", "vase", "cup", "cola_can", "alarm_clock", "desk_lamp",
+                   "candle", "picture_frame", "tissue_box", "potted_plant"),
+    "desk": ("laptop", "book", "mug", "phone", "cup", "cola_can", "bottle", "pen", "notebook", "stapler",
+             "scissors", "keyboard", "computer_mouse", "tablet", "desk_lamp", "alarm_clock", "potted_plant"),
+    "nightstand": ("book", "phone", "cup", "remote", "bottle", "alarm_clock", "desk_lamp", "tissue_box",
+                   "candle", "picture_frame"),
+    "dresser": ("vase", "book", "toy", "remote", "phone", "bottle", "picture_frame", "candle", "figurine",
+                "basket", "towel", "potted_plant"),
+    "bookshelf": ("book", "vase", "toy", "figurine", "picture_frame", "basket", "cardboard_box", "potted_plant",
+                  "candle"),
+    "tv_stand": ("remote", "vase", "book", "toy", "game_controller", "figurine", "picture_frame", "potted_plant"),
+    "sofa": ("remote", "phone", "toy", "book", "orange", "apple", "banana", "cola_can", "pillow",
+             "game_controller", "tablet", "notebook"),
+    "armchair": ("book", "phone", "remote", "toy", "pillow", "tablet"),
+    "chair": ("book", "toy", "phone", "pillow"),
+    "bed": ("book", "toy", "phone", "laptop", "pillow", "towel", "tablet", "notebook"),
+    "sink": ("bottle", "cup", "soap", "shampoo", "towel", "toilet_paper"),
+    "bathtub": ("bottle", "toy", "shampoo", "soap", "towel"),
+    "fridge": ("bottle", "bowl", "milk_carton", "jar"),
 }
+#: Kinds a sprinkled object is drawn from, one after another, before its place is left empty.
+SPRINKLE_KINDS = 3
 #: Largest random yaw added to the furniture's, degrees.
 MAX_JITTER_YAW = 15.0
 #: Gap between objects on one surface, metres.
@@ -199,7 +209,10 @@ class SmallObjectPlacer:
             want = int(self.rng.binomial(self.max, p)) - s.count
             options = [c for c in PLAUSIBLE.get(self.pieces[s.piece].category, tuple(small)) if c in small] or small
             for _ in range(max(0, want)):
-                self.put(s, options[int(self.rng.integers(len(options)))], tries=2)
+                # A kind too big for what is left of the surface gives way to another kind.
+                for _ in range(SPRINKLE_KINDS):
+                    if self.put(s, options[int(self.rng.integers(len(options)))], tries=2):
+                        break
 
 
 def _yaw_matrix(deg: float) -> np.ndarray:

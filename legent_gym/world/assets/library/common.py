@@ -9,11 +9,12 @@ frame, so only their origin moves.
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from functools import lru_cache
 
 import numpy as np
 
+from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import (
     AssetModel,
     Collision,
@@ -360,3 +361,26 @@ def finish(asset_id: str, base: list[Part], *, moving: Sequence[Link] = (),
                        r.link, float(r.clearance))
             for r in receptacles]
     return AssetModel(asset_id, asset_id, out, receptacles=recs, **annotations)
+
+
+def small_object(asset_id: str, parts: list[Part], names: list[str],
+                 density: float | Mapping[str, float] | Sequence[float], rooms: list[str]) -> AssetModel:
+    """A pickupable asset standing on surfaces, whose mass is its solid volume (m^3) times
+    ``density`` (kg/m^3): one for the whole object, one per material name (steel blades and
+    plastic handles), or one per part. Decorative parts (collision "none") overlap the body,
+    so they do not count."""
+    if isinstance(density, Mapping):
+        mass = sum(volume([p]) * density[p.material] for p in parts if p.collision != "none")
+    elif isinstance(density, Sequence):
+        mass = sum(volume([p]) * d for p, d in zip(parts, density, strict=True) if p.collision != "none")
+    else:
+        mass = volume(p for p in parts if p.collision != "none") * density
+    return finish(asset_id, parts, names=list(names), rooms=list(rooms), pickupable=True,
+                  placement="surface", mass=round(mass, 4), front_clearance=0.0)
+
+
+def register_builtins(factories: Mapping[str, Callable[[np.random.Generator], AssetModel]]) -> None:
+    """Register a library module's factories as built-in assets (each id's variants drawn
+    from its own seed table: :mod:`legent_gym.world.assets.registry`)."""
+    for asset_id, factory in factories.items():
+        registry.register(asset_id, factory, builtin=True)

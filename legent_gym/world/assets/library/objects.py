@@ -13,7 +13,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from legent_gym.world.assets import registry
 from legent_gym.world.assets.library.common import (
     BRIGHT_PLASTICS,
     CERAMICS,
@@ -24,14 +23,14 @@ from legent_gym.world.assets.library.common import (
     SCREEN,
     WHITE,
     block,
-    finish,
     flatten_bottom,
     lathe,
     pick,
+    register_builtins,
     rod,
     shade,
+    small_object,
     transformed,
-    volume,
 )
 from legent_gym.world.assets.model import AssetModel, Part, cylinder_part, sphere_part
 
@@ -39,14 +38,6 @@ STEM: RGBA = (0.35, 0.24, 0.12, 1.0)
 LEAF: RGBA = (0.25, 0.5, 0.2, 1.0)
 KITCHEN = ["kitchen", "dining_room"]
 
-
-def _small(asset_id: str, parts: list[Part], names: list[str], density: float,
-           rooms: list[str]) -> AssetModel:
-    """A pickupable asset whose mass is its volume (m^3) times ``density`` (kg/m^3)."""
-    # Decorative parts (collision "none") overlap the body, so they do not count.
-    mass = volume(p for p in parts if p.collision != "none") * density
-    return finish(asset_id, parts, names=list(names), rooms=list(rooms), pickupable=True,
-                  placement="surface", mass=round(mass, 4), front_clearance=0.0)
 
 
 # ---------------------------------------------------------------------------------------
@@ -68,7 +59,7 @@ def make_apple(rng: np.random.Generator) -> AssetModel:
     top = body.vertices[:, 2].max()
     parts = [body, block((-0.002, -0.002, top - 0.004), (0.002, 0.002, top + 0.012), STEM, "food",
                          collision="none")]
-    return _small("apple", parts, ["apple"], 800.0, KITCHEN)
+    return small_object("apple", parts, ["apple"], 800.0, KITCHEN)
 
 
 def make_orange(rng: np.random.Generator) -> AssetModel:
@@ -78,7 +69,7 @@ def make_orange(rng: np.random.Generator) -> AssetModel:
     top = body.vertices[:, 2].max()
     parts = [body, block((-0.004, -0.004, top - 0.003), (0.004, 0.004, top + 0.002), LEAF, "food",
                          collision="none")]
-    return _small("orange", parts, ["orange"], 850.0, KITCHEN)
+    return small_object("orange", parts, ["orange"], 850.0, KITCHEN)
 
 
 def make_tomato(rng: np.random.Generator) -> AssetModel:
@@ -88,7 +79,7 @@ def make_tomato(rng: np.random.Generator) -> AssetModel:
     top = body.vertices[:, 2].max()
     parts = [body, block((-0.3 * r, -0.3 * r, top - 0.003), (0.3 * r, 0.3 * r, top + 0.002), LEAF, "food",
                          collision="none")]
-    return _small("tomato", parts, ["tomato"], 950.0, KITCHEN)
+    return small_object("tomato", parts, ["tomato"], 950.0, KITCHEN)
 
 
 def make_pear(rng: np.random.Generator) -> AssetModel:
@@ -97,7 +88,7 @@ def make_pear(rng: np.random.Generator) -> AssetModel:
     body = lathe([(0.55 * r, 0.0), (r, 0.25 * h), (0.92 * r, 0.45 * h), (0.55 * r, 0.7 * h),
                   (0.35 * r, 0.9 * h), (0.12 * r, h)], color, "food")
     stem = block((-0.002, -0.002, h - 0.003), (0.002, 0.002, h + 0.015), STEM, "food", collision="none")
-    return _small("pear", [body, stem], ["pear"], 900.0, KITCHEN)
+    return small_object("pear", [body, stem], ["pear"], 900.0, KITCHEN)
 
 
 def _bent_tube(radii: list[float], arc_radius: float, arc_angle: float, rgba: RGBA, material: str) -> Part:
@@ -151,7 +142,7 @@ def make_banana(rng: np.random.Generator) -> AssetModel:
     body = _bent_tube([0.3 * r, 0.8 * r, r, r, 0.8 * r, 0.35 * r], arc_radius, bend, color, "food")
     tip = body.vertices[:6].mean(axis=0)
     stem = block(tip - (0.012, 0.004, 0.004), tip + (0.0, 0.004, 0.004), STEM, "food", collision="none")
-    return _small("banana", [body, stem], ["banana"], 900.0, KITCHEN)
+    return small_object("banana", [body, stem], ["banana"], 900.0, KITCHEN)
 
 
 # ---------------------------------------------------------------------------------------
@@ -178,7 +169,7 @@ def make_mug(rng: np.random.Generator) -> AssetModel:
              block((x0, -0.006, z1 - t), (x1, 0.006, z1), color, "ceramic"),
              block((x1 - t, -0.006, z0), (x1, 0.006, z1 - t), color, "ceramic"),
              block((x0, -0.006, z0), (x1 - t, 0.006, z0 + t), color, "ceramic")]
-    return _small("mug", parts, ["mug", "coffee mug"], 2000.0, ["kitchen", "office", "living_room"])
+    return small_object("mug", parts, ["mug", "coffee mug"], 2000.0, ["kitchen", "office", "living_room"])
 
 
 #: Cup kinds: (palette, wall thickness m, density kg/m^3 of the wall, names).
@@ -195,21 +186,21 @@ def make_cup(rng: np.random.Generator) -> AssetModel:
     rb, h = rng.uniform(0.026, 0.033), rng.uniform(0.08, 0.12)
     rt = rb + rng.uniform(0.008, 0.014)
     body = _vessel(rb, rt, h, wall, 0.006, pick(rng, palette), kind)
-    return _small("cup", [body], names, density, ["kitchen", "dining_room", "office"])
+    return small_object("cup", [body], names, density, ["kitchen", "dining_room", "office"])
 
 
 def make_bowl(rng: np.random.Generator) -> AssetModel:
     r, h = rng.uniform(0.065, 0.09), rng.uniform(0.045, 0.075)
     color, material = (pick(rng, CERAMICS), "ceramic") if rng.random() < 0.75 else (pick(rng, BRIGHT_PLASTICS), "plastic")
     body = _vessel(0.5 * r, r, h, 0.005, 0.007, color, material, bulge=0.15 * r)
-    return _small("bowl", [body], ["bowl"], 2000.0 if material == "ceramic" else 1000.0, KITCHEN)
+    return small_object("bowl", [body], ["bowl"], 2000.0 if material == "ceramic" else 1000.0, KITCHEN)
 
 
 def make_plate(rng: np.random.Generator) -> AssetModel:
     r, h = rng.uniform(0.1, 0.14), rng.uniform(0.015, 0.025)
     color = pick(rng, CERAMICS)
     body = lathe([(0.6 * r, 0.0), (r, h), (r - 0.012, h), (0.6 * r, 0.006)], color, "ceramic", segments=12)
-    return _small("plate", [body], ["plate", "dish"], 2200.0, KITCHEN)
+    return small_object("plate", [body], ["plate", "dish"], 2200.0, KITCHEN)
 
 
 def make_bottle(rng: np.random.Generator) -> AssetModel:
@@ -224,7 +215,7 @@ def make_bottle(rng: np.random.Generator) -> AssetModel:
     parts = [body, rod(0, 0, h - 0.014, h, neck + 0.002, cap, "plastic")]
     names = ["bottle", "glass bottle"] if glass else ["bottle", "water bottle", "plastic bottle"]
     # A full bottle: about the density of water, less the air above the liquid.
-    return _small("bottle", parts, names, 950.0, ["kitchen", "dining_room", "office"])
+    return small_object("bottle", parts, names, 950.0, ["kitchen", "dining_room", "office"])
 
 
 def make_cola_can(rng: np.random.Generator) -> AssetModel:
@@ -235,7 +226,7 @@ def make_cola_can(rng: np.random.Generator) -> AssetModel:
              cylinder_part((0, 0, h * 0.62), r + 0.0005, 0.012, WHITE, segments=10, collision="none",
                            material="metal"),
              rod(0, 0, h - 0.001, h + 0.001, 0.75 * r, metal, "metal", collision="none")]
-    return _small("cola_can", parts, ["cola", "cola can", "soda can", "can"], 850.0,
+    return small_object("cola_can", parts, ["cola", "cola can", "soda can", "can"], 850.0,
                   ["kitchen", "living_room", "dining_room"])
 
 
@@ -252,7 +243,7 @@ def make_book(rng: np.random.Generator) -> AssetModel:
              block((-hw, -hl, t - c), (hw, hl, t), cover, "paper"),
              block((-hw, -hl, c), (-hw + c, hl, t - c), cover, "paper"),
              block((-hw + c, -hl + c, c), (hw - c, hl - c, t - c), pages, "paper")]
-    return _small("book", parts, ["book"], 700.0, ["living_room", "bedroom", "office"])
+    return small_object("book", parts, ["book"], 700.0, ["living_room", "bedroom", "office"])
 
 
 def make_vase(rng: np.random.Generator) -> AssetModel:
@@ -263,7 +254,7 @@ def make_vase(rng: np.random.Generator) -> AssetModel:
     body = lathe([(0.7 * r, 0.0), (r, 0.35 * h), (0.55 * r, 0.85 * h), (lip, h), (lip - wall, h),
                   (0.55 * r - wall, 0.85 * h), (0.55 * r - wall, 0.6 * h)], color, material)
     # The lathe is solid below the neck; count the body as a thick shell.
-    return _small("vase", [body], ["vase"], 450.0, ["living_room", "dining_room", "bedroom", "hallway"])
+    return small_object("vase", [body], ["vase"], 450.0, ["living_room", "dining_room", "bedroom", "hallway"])
 
 
 def make_laptop(rng: np.random.Generator) -> AssetModel:
@@ -283,7 +274,7 @@ def make_laptop(rng: np.random.Generator) -> AssetModel:
              block((-0.05, hd - 0.09, base_t), (0.05, hd - 0.02, base_t + 0.0005), shade(shell, 0.8), "plastic",
                    collision="none"),
              *lid]
-    return _small("laptop", parts, ["laptop", "laptop computer", "computer"], 1100.0,
+    return small_object("laptop", parts, ["laptop", "laptop computer", "computer"], 1100.0,
                   ["office", "bedroom", "living_room"])
 
 
@@ -297,7 +288,7 @@ def make_remote(rng: np.random.Generator) -> AssetModel:
                    collision="none"),
              block((-hw + 0.008, -hl + 0.02, t), (hw - 0.008, 0.3 * hl, t + 0.002), keys, "plastic",
                    collision="none")]
-    return _small("remote", parts, ["remote", "remote control", "tv remote"], 900.0,
+    return small_object("remote", parts, ["remote", "remote control", "tv remote"], 900.0,
                   ["living_room", "bedroom"])
 
 
@@ -308,7 +299,7 @@ def make_phone(rng: np.random.Generator) -> AssetModel:
     parts = [block((-hw, -hl, 0.0), (hw, hl, t), case, "plastic"),
              block((-hw + 0.003, -hl + 0.004, t), (hw - 0.003, hl - 0.004, t + 0.0005), SCREEN, "glass",
                    collision="none")]
-    return _small("phone", parts, ["phone", "cell phone", "mobile phone", "smartphone"], 1900.0,
+    return small_object("phone", parts, ["phone", "cell phone", "mobile phone", "smartphone"], 1900.0,
                   ["living_room", "bedroom", "office"])
 
 
@@ -346,8 +337,8 @@ def _teddy(rng: np.random.Generator) -> list[Part]:
 
 def make_toy(rng: np.random.Generator) -> AssetModel:
     if rng.random() < 0.5:
-        return _small("toy", _toy_car(rng), ["toy", "toy car", "car"], 350.0, ["bedroom", "living_room"])
-    return _small("toy", _teddy(rng), ["toy", "teddy bear", "teddy", "stuffed animal"], 150.0,
+        return small_object("toy", _toy_car(rng), ["toy", "toy car", "car"], 350.0, ["bedroom", "living_room"])
+    return small_object("toy", _teddy(rng), ["toy", "teddy bear", "teddy", "stuffed animal"], 150.0,
                   ["bedroom", "living_room"])
 
 
@@ -371,5 +362,4 @@ FACTORIES = {
     "toy": make_toy,
 }
 
-for _asset_id, _factory in FACTORIES.items():
-    registry.register(_asset_id, _factory, builtin=True)
+register_builtins(FACTORIES)
