@@ -34,7 +34,6 @@ from __future__ import annotations
 import hashlib
 import os
 import pickle
-import tempfile
 import warnings
 from pathlib import Path
 
@@ -44,6 +43,7 @@ import numpy as np
 import legent_gym
 from legent_gym.envs.factory import HousePayload
 from legent_gym.envs.houses import House, HouseDraw
+from legent_gym.utils.atomic import atomic_write_bytes
 from legent_gym.world.assets import registry
 from legent_gym.world.builder import BuildOptions
 from legent_gym.world.generation import GENERATOR_VERSION
@@ -114,19 +114,10 @@ class HouseStore:
         stem = self.digest(house.draw)
         if stem is None:
             return
-        _write_atomically(self.folder / f"{stem}.mjb", binary.tobytes())
+        atomic_write_bytes(self.folder / f"{stem}.mjb", binary.tobytes(), durable=False)
         library_refs = {(obj.asset, obj.variant) for obj in house.scene.objects}  # made again on load
         payload = HousePayload.of(house, "", library_refs)  # the model's path is set on load
-        _write_atomically(self.folder / f"{stem}.house", pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL))
+        atomic_write_bytes(self.folder / f"{stem}.house", pickle.dumps(payload, protocol=pickle.HIGHEST_PROTOCOL),
+                           durable=False)
         self.stored += 1
 
-
-def _write_atomically(path: Path, data: bytes) -> None:
-    handle, temporary = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
-    try:
-        with os.fdopen(handle, "wb") as out:
-            out.write(data)
-        os.replace(temporary, path)
-    except BaseException:
-        Path(temporary).unlink(missing_ok=True)
-        raise

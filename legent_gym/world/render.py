@@ -201,8 +201,8 @@ def _sample_palette_nearest(context: mujoco.MjrContext, model: mujoco.MjModel) -
     colour's texel, so the nearest texel is the colour itself: the same pixels (where a
     mipmap of a far face blends neighbouring colours, the face's own colour instead) for
     less work per fragment, which llvmpipe pays for on the CPU (about a tenth of a 96 px
-    frame: ``benchmarks/render.py``). MuJoCo sets trilinear filtering when it uploads a
-    texture, so this runs after every upload."""
+    frame). MuJoCo sets trilinear filtering when it uploads a texture, so this runs after
+    every upload."""
     palette = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TEXTURE, PALETTE_TEXTURE)
     if palette < 0:
         return

@@ -1,6 +1,6 @@
 """``legent-gym play`` as the user with each kind of partner driving the agent (``random``,
 ``module:function``, ``llm`` against a real OpenAI-compatible server on the loopback interface), and
-two players at once (``--sessions 2``, two browser tabs): the real command in a child process,
+two players at once (two browser tabs on one server): the real command in a child process,
 spoken to over its WebSocket."""
 
 from __future__ import annotations
