@@ -14,6 +14,7 @@ import legent_gym.world.assets  # noqa: F401  (registers the library)
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.library.common import MATERIALS, ROOM_TYPES
 from legent_gym.world.assets.model import AssetModel, Part
+from tests.world import sizes_appliances, sizes_bath_decor, sizes_living
 from tests.world.sizes_decor import SIZES as DECOR_SIZES
 from tests.world.sizes_kitchenware import SIZES as KITCHENWARE_SIZES
 from tests.world.sizes_office_bath import SIZES as OFFICE_BATH_SIZES
@@ -43,6 +44,9 @@ FURNITURE = {
     "plant": ((0.2, 0.2, 0.3), (1.0, 1.0, 2.0)),
     "side_table": ((0.38, 0.33, 0.45), (0.6, 0.6, 0.65)),
     "floor_lamp": ((0.25, 0.25, 1.4), (0.5, 0.5, 1.8)),
+    **sizes_appliances.SIZES,
+    **sizes_living.SIZES,
+    **sizes_bath_decor.SIZES,
 }
 OBJECTS = {
     "apple": ((0.06, 0.06, 0.055), (0.095, 0.095, 0.1)),
@@ -68,7 +72,8 @@ OBJECTS = {
 }
 FURNITURE_TRIANGLES, OBJECT_TRIANGLES = 400, 160
 #: Moving links: the joint kind of each articulated asset.
-ARTICULATED = {"wardrobe": "hinge", "fridge": "hinge", "dresser": "slide", "nightstand": "slide"}
+ARTICULATED = {"wardrobe": "hinge", "fridge": "hinge", "dresser": "slide", "nightstand": "slide",
+               **sizes_appliances.ARTICULATED, **sizes_living.ARTICULATED, **sizes_bath_decor.ARTICULATED}
 #: Names a Where-Is answer may use, by asset.
 EXPECTED_NAMES = {
     "sofa": {"sofa", "couch"},
@@ -84,6 +89,8 @@ EXPECTED_NAMES = {
 EXPECTED_RECEPTACLES = {
     "bed": 1, "sofa": 1, "dining_table": 1, "coffee_table": 1, "desk": 1, "bookshelf": 3,
     "dresser": 4, "nightstand": 2, "kitchen_counter": 1, "sink": 1, "tv_stand": 1, "side_table": 1,
+    **sizes_appliances.EXPECTED_RECEPTACLES, **sizes_living.EXPECTED_RECEPTACLES,
+    **sizes_bath_decor.EXPECTED_RECEPTACLES,
 }
 
 BUILTIN = registry.asset_ids(builtin=True)
@@ -131,7 +138,8 @@ def _centroid(parts: list[Part]) -> np.ndarray:
 
 
 def test_every_listed_asset_is_registered():
-    assert set(FURNITURE) | set(OBJECTS) <= set(BUILTIN)
+    assert set(FURNITURE) | set(OBJECTS) == set(BUILTIN)
+    assert len(BUILTIN) >= 100, "the built-in library has at least 100 types"
     assert len(OBJECTS) == 50 and sum(registry.describe(a).pickupable for a in BUILTIN) >= 50
     assert set(BUILTIN) <= set(FURNITURE) | set(OBJECTS), "a new built-in needs a size range here"
 

@@ -22,6 +22,7 @@ from legent_gym.world.generation import (
     generate_house,
     parse_rooms,
 )
+from legent_gym.world.generation.furnish import SUPPORTS
 from legent_gym.world.generation.validate import find_receptacle
 from legent_gym.world.geometry import object_footprint, polygon_signed_area
 from legent_gym.world.navigation import NavGrid
@@ -151,7 +152,7 @@ def _check_structure(scene) -> None:
         elif o.on is None:
             assert o.kind == "static" and o.position[2] == 0.0 and o.rotation[2] % 90 == 0
         else:
-            assert category(o) == "tv" and category(scene.object(o.on)) in ("tv_stand", "dresser", "side_table")
+            assert category(scene.object(o.on)) in SUPPORTS[category(o)]
     # Style and lights.
     assert len(scene.lights) == len(scene.rooms)
     assert all(light.position[2] == pytest.approx(2.8) for light in scene.lights)

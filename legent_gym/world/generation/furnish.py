@@ -15,7 +15,8 @@ doors, and (for tall pieces) of windows. After each accepted piece a small raste
 room checks that the agent can still walk between the room's doors and reach every piece.
 
 Phases: priority pieces in every room, then what the conditions still need, then optional
-pieces; so conditions get space before decoration does.
+pieces, then surface pieces on free supports (a microwave on a kitchen counter); so
+conditions get space before decoration does.
 """
 
 from __future__ import annotations
@@ -93,58 +94,85 @@ class Rule:
     group: str | None = None
 
 
-#: Per room type: (priority pieces, optional pieces).
+#: Per room type: (priority pieces, optional pieces). Optional pieces are tried in this
+#: order, so the pieces that define a room (a kitchen's stove, a hallway's coat rack) get
+#: their space before the decoration.
 ROOM_FURNITURE: dict[str, tuple[list[Rule], list[Rule]]] = {
     "bedroom": (
         [Rule("bed", group="bed")],
         [Rule("wardrobe", 0.55), Rule("dresser", 0.5), Rule("desk", 0.25, group="desk"),
          Rule("plant", 0.35), Rule("floor_lamp", 0.3), Rule("bookshelf", 0.2), Rule("armchair", 0.2),
-         Rule("tv_stand", 0.15, group="tv"), Rule("side_table", 0.15), Rule("sofa", 0.1), Rule("chair", 0.1)],
+         Rule("tv_stand", 0.15, group="tv"), Rule("side_table", 0.15), Rule("sofa", 0.1), Rule("chair", 0.1),
+         Rule("chest", 0.2), Rule("standing_mirror", 0.15), Rule("laundry_hamper", 0.15), Rule("radiator", 0.1),
+         Rule("ottoman", 0.1), Rule("floor_fan", 0.08)],
     ),
     "living_room": (
         [Rule("sofa", group="sofa")],
-        [Rule("tv_stand", 0.8, group="tv"), Rule("armchair", 0.6, (1, 2)), Rule("bookshelf", 0.4),
-         Rule("plant", 0.6, (1, 2)), Rule("floor_lamp", 0.4), Rule("side_table", 0.4),
-         Rule("dining_table", 0.15, group="dining"), Rule("dresser", 0.15), Rule("desk", 0.1, group="desk")],
+        [Rule("tv_stand", 0.8, group="tv"), Rule("armchair", 0.6, (1, 2)), Rule("fireplace", 0.2),
+         Rule("bookshelf", 0.4), Rule("plant", 0.6, (1, 2)), Rule("floor_lamp", 0.4), Rule("side_table", 0.4),
+         Rule("ottoman", 0.3), Rule("sideboard", 0.2), Rule("dining_table", 0.15, group="dining"),
+         Rule("dresser", 0.15), Rule("desk", 0.1, group="desk"), Rule("piano", 0.08), Rule("aquarium", 0.08),
+         Rule("storage_cabinet", 0.15), Rule("console_table", 0.15), Rule("radiator", 0.2), Rule("trash_can", 0.1),
+         Rule("floor_fan", 0.08), Rule("grandfather_clock", 0.06), Rule("chest", 0.05), Rule("stool", 0.05)],
     ),
     "kitchen": (
         [Rule("fridge"), Rule("kitchen_counter")],
-        [Rule("kitchen_counter", 0.5), Rule("sink", 0.5), Rule("dining_table", 0.35, group="dining"),
-         Rule("plant", 0.2), Rule("chair", 0.1)],
+        [Rule("stove", 0.9), Rule("kitchen_counter", 0.5), Rule("sink", 0.5), Rule("dishwasher", 0.45),
+         Rule("pantry_cabinet", 0.3), Rule("kitchen_island", 0.2), Rule("dining_table", 0.35, group="dining"),
+         Rule("trash_can", 0.5), Rule("bar_stool", 0.2, (1, 2)), Rule("plant", 0.2), Rule("chair", 0.1),
+         Rule("washing_machine", 0.1), Rule("stool", 0.1), Rule("radiator", 0.1)],
     ),
     "bathroom": (
         [Rule("toilet")],
-        [Rule("sink", 0.9), Rule("bathtub", 0.6), Rule("plant", 0.1)],
+        [Rule("sink", 0.55), Rule("vanity", 0.5), Rule("bathtub", 0.45), Rule("shower", 0.4),
+         Rule("towel_rack", 0.3), Rule("washing_machine", 0.2), Rule("laundry_hamper", 0.25), Rule("trash_can", 0.3),
+         Rule("radiator", 0.2), Rule("dryer", 0.1), Rule("plant", 0.1)],
     ),
     "dining_room": (
         [Rule("dining_table", group="dining")],
-        [Rule("dresser", 0.4), Rule("bookshelf", 0.3), Rule("plant", 0.5), Rule("floor_lamp", 0.2),
-         Rule("side_table", 0.2), Rule("kitchen_counter", 0.1)],
+        [Rule("sideboard", 0.4), Rule("dresser", 0.3), Rule("bookshelf", 0.3), Rule("plant", 0.5),
+         Rule("floor_lamp", 0.2), Rule("side_table", 0.2), Rule("kitchen_counter", 0.1), Rule("storage_cabinet", 0.15),
+         Rule("grandfather_clock", 0.1), Rule("radiator", 0.15), Rule("bench", 0.1), Rule("aquarium", 0.05),
+         Rule("bar_stool", 0.05)],
     ),
     "office": (
         [Rule("desk", group="desk")],
-        [Rule("bookshelf", 0.8, (1, 2)), Rule("armchair", 0.3), Rule("plant", 0.5), Rule("floor_lamp", 0.3),
-         Rule("side_table", 0.2), Rule("sofa", 0.15, group="sofa"), Rule("dresser", 0.15)],
+        [Rule("bookshelf", 0.8, (1, 2)), Rule("filing_cabinet", 0.45), Rule("armchair", 0.3), Rule("plant", 0.5),
+         Rule("floor_lamp", 0.3), Rule("trash_can", 0.4), Rule("side_table", 0.2), Rule("sofa", 0.15, group="sofa"),
+         Rule("dresser", 0.15), Rule("storage_cabinet", 0.2), Rule("radiator", 0.15), Rule("floor_fan", 0.1),
+         Rule("aquarium", 0.05), Rule("stool", 0.05)],
     ),
     "hallway": (
         [],
-        [Rule("side_table", 0.4), Rule("plant", 0.4), Rule("dresser", 0.2), Rule("bookshelf", 0.15),
-         Rule("chair", 0.1)],
+        [Rule("coat_rack", 0.4), Rule("shoe_rack", 0.4), Rule("console_table", 0.3), Rule("umbrella_stand", 0.3),
+         Rule("bench", 0.25), Rule("side_table", 0.3), Rule("plant", 0.4), Rule("dresser", 0.2),
+         Rule("bookshelf", 0.15), Rule("standing_mirror", 0.15), Rule("storage_cabinet", 0.1),
+         Rule("radiator", 0.15), Rule("grandfather_clock", 0.08), Rule("chair", 0.1)],
     ),
 }
+
+#: Per room type: surface pieces stood on a free support of the room (see SUPPORTS), each
+#: with its probability, after the floor pieces: a kitchen's microwave on a counter.
+ROOM_SURFACE_PIECES: dict[str, list[Rule]] = {
+    "kitchen": [Rule("microwave", 0.6), Rule("coffee_machine", 0.4), Rule("toaster", 0.3)],
+}
+#: The probability that a desk's chair is an office chair (where there is one), per room type.
+OFFICE_CHAIR_P = {"office": 0.6}
+OFFICE_CHAIR_P_ELSEWHERE = 0.3
 
 #: Group anchor -> the categories it may bring along.
 GROUP_MEMBERS: dict[str, tuple[str, ...]] = {
     "bed": ("nightstand",),
     "sofa": ("coffee_table",),
-    "desk": ("chair",),
+    "desk": ("chair", "office_chair"),
     "dining": ("chair",),
     "tv": ("tv",),
 }
 #: Which group an anchor category forms when a condition asks for it on its own.
 DEFAULT_GROUP = {"bed": "bed", "sofa": "sofa", "desk": "desk", "dining_table": "dining", "tv_stand": "tv"}
 #: Surface furniture -> the categories it stands on.
-SUPPORTS = {"tv": ("tv_stand", "dresser", "side_table")}
+SUPPORTS = {"tv": ("tv_stand", "dresser", "side_table"), "microwave": ("kitchen_counter",),
+            "coffee_machine": ("kitchen_counter",), "toaster": ("kitchen_counter",)}
 #: Probability of placing a user-registered category the tables do not know (if its
 #: ``rooms`` annotation allows the room).
 EXTRA_CATEGORY_P = 0.25
@@ -569,7 +597,7 @@ class Furnisher:
         """Place one piece (with its group) in a room; False if it does not fit."""
         for _ in range(tries):
             asset, variant, model = self.pick(category)
-            variants = self.group_variants(group, model) if group else [[]]
+            variants = self.group_variants(group, model, space.rtype) if group else [[]]
             poses = self.anchor_poses(space, model)
             if len(poses) == 0:
                 continue
@@ -699,11 +727,15 @@ class Furnisher:
         return space.require_reach().ok(targets)
 
     # -- groups -------------------------------------------------------------------------
-    def group_variants(self, group: str, anchor: AssetModel) -> list[list[Member]]:
-        """Member layouts for a group, fullest first (the last one is the anchor alone)."""
+    def group_variants(self, group: str, anchor: AssetModel, rtype: str = "") -> list[list[Member]]:
+        """Member layouts for a group in a room of type ``rtype``, fullest first (the last
+        one is the anchor alone)."""
         a = local_footprint(anchor)
-        build = {"bed": self._bed, "sofa": self._sofa, "desk": self._desk, "dining": self._dining}.get(group)
-        variants = build(a) if build else []
+        if group == "desk":
+            variants = self._desk(a, rtype)
+        else:
+            build = {"bed": self._bed, "sofa": self._sofa, "dining": self._dining}.get(group)
+            variants = build(a) if build else []
         variants = [v for v in variants if self._within_caps(v)]
         return variants + [[]]
 
@@ -731,13 +763,16 @@ class Furnisher:
         gap = float(self.rng.uniform(0.4, 0.5))
         return [[Member("coffee_table", asset, variant, model, -(m[0] + m[2]) / 2, a[3] + gap - m[1], 0)]]
 
-    def _desk(self, a: np.ndarray) -> list[list[Member]]:
-        if not self.available("chair"):
+    def _desk(self, a: np.ndarray, rtype: str) -> list[list[Member]]:
+        """The desk's chair: an office chair in most offices, else a plain one."""
+        office = self.available("office_chair") and self.rng.random() < OFFICE_CHAIR_P.get(rtype, OFFICE_CHAIR_P_ELSEWHERE)
+        category = "office_chair" if office else "chair"
+        if not self.available(category):
             return []
-        asset, variant, model = self.pick("chair")
+        asset, variant, model = self.pick(category)
         m = local_footprint(model)
         # Turned half a turn: the chair's front faces the desk.
-        return [[Member("chair", asset, variant, model, (m[0] + m[2]) / 2, a[3] + GROUP_GAP + m[3], 2)]]
+        return [[Member(category, asset, variant, model, (m[0] + m[2]) / 2, a[3] + GROUP_GAP + m[3], 2)]]
 
     def _dining(self, a: np.ndarray) -> list[list[Member]]:
         """Chairs along the table's long sides (and sometimes its ends), facing it."""
@@ -803,6 +838,16 @@ class Furnisher:
         return False
 
     # -- surface furniture (a tv on its stand) --------------------------------------------
+    def put_on_free_support(self, space: RoomSpace, category: str) -> bool:
+        """Stand a surface piece on a piece of this room that may hold it (see SUPPORTS)
+        and holds nothing yet; False if none does or it fits on none."""
+        for k in space.pieces:
+            p = self.pieces[k]
+            if (p.category in SUPPORTS.get(category, ()) and p.on_floor
+                    and not any(q.support == k for q in self.pieces) and self.put_on_support(k, category)):
+                return True
+        return False
+
     def put_on_support(self, support: int, category: str, tries: int = 3) -> bool:
         """Stand a surface piece (a tv) on the top receptacle of piece ``support``."""
         if not self.available(category):
@@ -913,5 +958,9 @@ def furnish_house(fp: FloorPlan, catalog: Catalog, rng: np.random.Generator, *,
                 continue
             for _ in range(int(rng.integers(rule.count[0], rule.count[1] + 1))):
                 if f.available(rule.category):
-                    f.place(space, rule.category, group=rule.group, tries=2)
+                    f.place(space, rule.category, group=rule.group, tries=1 if rule.p < 0.5 else 2)
+    for space in f.spaces:
+        for rule in ROOM_SURFACE_PIECES.get(space.rtype, []):
+            if f.available(rule.category) and rng.random() < rule.p:
+                f.put_on_free_support(space, rule.category)
     return f

@@ -65,8 +65,10 @@ from legent_gym.world.scene import ObjectInstance, Room, Scene, Spawn
 #: The version of the houses a seed gives: it changes whenever the same seed and conditions
 #: give another house (docs/generation.md lists what changed); anything that stores houses
 #: made from seeds keys them by it. 2: 50 pickupable kinds (33 more: kitchenware, decor,
-#: office and bathroom things) on the surfaces that plausibly hold them.
-GENERATOR_VERSION = 2
+#: office and bathroom things) on the surfaces that plausibly hold them. 3: 105 asset types
+#: (34 more pieces of furniture, appliances and fixtures) furnishing rooms by type, and
+#: appliances on kitchen counters.
+GENERATOR_VERSION = 3
 #: Extra clearance (beyond the agent radius) preferred around spawn points, metres.
 SPAWN_CLEARANCE = 0.15
 #: How far the agent reaches from where it stands (the validity check's reach).

@@ -1,3 +1,12 @@
 """Built-in parametric assets (furniture and small objects), registered on import."""
 
-from legent_gym.world.assets.library import decor, furniture, kitchenware, objects, office_bath  # noqa: F401
+from legent_gym.world.assets.library import (  # noqa: F401
+    appliances,
+    bath_decor,
+    decor,
+    furniture,
+    kitchenware,
+    living,
+    objects,
+    office_bath,
+)

@@ -1,4 +1,5 @@
-"""Shared pieces of the built-in library: palettes, part builders, and the asset-frame fix-up.
+"""Shared pieces of the built-in library: palettes, part builders, doors and drawers, and the
+asset-frame fix-up.
 
 A factory draws all of its randomness from the generator it is given, builds its parts in
 whatever frame is convenient, and hands them to :func:`finish`, which moves everything into
@@ -18,6 +19,7 @@ from legent_gym.world.assets import registry
 from legent_gym.world.assets.model import (
     AssetModel,
     Collision,
+    Joint,
     Link,
     Part,
     Receptacle,
@@ -36,6 +38,8 @@ MATERIALS = frozenset({"wood", "fabric", "metal", "plastic", "ceramic", "glass",
 #: Room types an asset may name in ``rooms``.
 ROOM_TYPES = frozenset({"bedroom", "living_room", "kitchen", "bathroom", "dining_room", "office",
                         "hallway"})
+#: How far a hinged door opens (radians): a little past 90 degrees.
+DOOR_RANGE = (0.0, 1.75)
 
 # ---------------------------------------------------------------------------------------
 # Palettes (linear-ish sRGB in 0..1). Each factory picks from these, with a little jitter,
@@ -68,6 +72,13 @@ LEATHERS: Colours = (
     (0.65, 0.45, 0.28),  # tan
     (0.12, 0.11, 0.11),  # black
     (0.40, 0.13, 0.12),  # oxblood
+)
+WICKERS: Colours = (
+    (0.78, 0.62, 0.40),  # natural rattan
+    (0.62, 0.45, 0.27),  # honey willow
+    (0.42, 0.29, 0.18),  # dark willow
+    (0.70, 0.66, 0.58),  # grey-washed
+    (0.88, 0.85, 0.78),  # white-washed
 )
 BEDDING: Colours = (
     (0.95, 0.95, 0.93),  # white
@@ -155,6 +166,16 @@ def shade(rgba: RGBA, factor: float) -> RGBA:
     """A darker (< 1) or lighter (> 1) version of a colour, e.g. for trim or handles."""
     f = float(factor)
     return (_unit(float(rgba[0]) * f), _unit(float(rgba[1]) * f), _unit(float(rgba[2]) * f), rgba[3])
+
+
+def wood_or_metal(rng: np.random.Generator, p_wood: float) -> tuple[RGBA, str]:
+    """A frame's colour and material: a wood with probability ``p_wood``, else a metal."""
+    return (pick(rng, WOODS), "wood") if rng.random() < p_wood else (pick(rng, METALS), "metal")
+
+
+def upholstery(rng: np.random.Generator, p_leather: float) -> tuple[RGBA, str]:
+    """A cover's colour and material: a leather with probability ``p_leather``, else a fabric."""
+    return (pick(rng, LEATHERS), "leather") if rng.random() < p_leather else (pick(rng, FABRICS), "fabric")
 
 
 # ---------------------------------------------------------------------------------------
@@ -273,6 +294,49 @@ def flatten_bottom(part: Part, depth: float) -> Part:
     return Part.exact(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
 
 
+def along_x(part: Part) -> Part:
+    """``part`` turned so that its z axis runs along x (its x along y, its y up): a cyclic
+    swap of the axes, a proper rotation, so the faces keep facing outward."""
+    v = np.ascontiguousarray(part.vertices[:, [2, 0, 1]])
+    return Part.exact(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
+
+
+def along_y(part: Part) -> Part:
+    """``part`` turned so that its z axis runs along y (its x up, its y along x)."""
+    v = np.ascontiguousarray(part.vertices[:, [1, 2, 0]])
+    return Part.exact(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
+
+
+def annulus(outer: tuple[float, float], inner: tuple[float, float], z0: float, z1: float, rgba: RGBA,
+            material: str, *, centre: tuple[float, float] = (0.0, 0.0), segments: int = 8,
+            collision: Collision = "hull") -> Part:
+    """A flat ring with a hole through it (a finger loop, a paper roll, a footrest) from ``z0``
+    to ``z1``, with elliptical outer and inner semi-axes (x, y): a :func:`lathe` always caps
+    its ends, so it cannot leave the hole open."""
+    ang = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
+    c, s = np.cos(ang), np.sin(ang)
+    rings = [np.column_stack([centre[0] + ax * c, centre[1] + ay * s, np.full(segments, z)])
+             for (ax, ay) in (outer, inner) for z in (z0, z1)]
+    return Part.exact(np.concatenate(rings), _annulus_faces(segments).copy(), rgba, collision,
+                      material=material)
+
+
+@lru_cache(maxsize=16)
+def _annulus_faces(n: int) -> np.ndarray:
+    """Faces of :func:`annulus`: rings outer-bottom, outer-top, inner-bottom, inner-top."""
+    faces = []
+    for i in range(n):
+        j = (i + 1) % n
+        ob, ot, ib, it = (0, i, j), (n, n + i, n + j), (2 * n, 2 * n + i, 2 * n + j), (3 * n, 3 * n + i, 3 * n + j)
+        faces += [[ob[1], ob[2], ot[2]], [ob[1], ot[2], ot[1]],  # outer wall, facing out
+                  [ib[1], it[2], ib[2]], [ib[1], it[1], it[2]],  # inner wall, facing the hole
+                  [ot[1], ot[2], it[2]], [ot[1], it[2], it[1]],  # top
+                  [ob[1], ib[2], ob[2]], [ob[1], ib[1], ib[2]]]  # bottom
+    out = np.array(faces, dtype=np.int32)
+    out.flags.writeable = False
+    return out
+
+
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Row-wise cross product of (N, 3) arrays: np.cross's arithmetic without its
     general-axis overhead."""
@@ -301,6 +365,77 @@ def volume(parts: Iterable[Part]) -> float:
 
 
 # ---------------------------------------------------------------------------------------
+# Doors and drawers: links that move, closed at joint value 0.
+
+#: Makes the handle of a door or drawer: its parts, given the point (x, y, z) on the front
+#: face where the handle is centred and the height of the front.
+Handle = Callable[[float, float, float, float], list[Part]]
+
+
+def hinged_door(name: str, x0: float, x1: float, y_front: float, z0: float, z1: float, *, hinge_left: bool,
+                rgba: RGBA, material: str, handle: Handle, thickness: float = 0.02,
+                handle_z: float | None = None, handle_inset: float = 0.05, glass: RGBA | None = None,
+                panel: RGBA | None = None) -> Link:
+    """A door covering x0..x1, z0..z1 in front of the plane ``y_front``, hinged on one vertical
+    edge, with the ``handle`` parts ``handle_inset`` in from its free edge at ``handle_z`` (by
+    default half way up).
+
+    The door is a slab; with ``glass``, a frame of four stiles and rails round a pane of that
+    colour; with ``panel``, a slab with a raised centre panel of that colour (a shaker door).
+    The link origin is on the hinge axis; the left-hinged door turns about +z and the
+    right-hinged one about -z, so both open toward +y with positive joint values.
+    """
+    width, t = x1 - x0, thickness
+    xa, xb = (0.0, width) if hinge_left else (-width, 0.0)
+    free = width - handle_inset if hinge_left else -width + handle_inset
+    if glass is None:
+        parts = [block((xa, 0.0, z0), (xb, t, z1), rgba, material)]
+    else:
+        f = min(0.07, 0.2 * width)
+        parts = [block((xa, 0.0, z0), (xa + f, t, z1), rgba, material),
+                 block((xb - f, 0.0, z0), (xb, t, z1), rgba, material),
+                 block((xa + f, 0.0, z0), (xb - f, t, z0 + f), rgba, material),
+                 block((xa + f, 0.0, z1 - f), (xb - f, t, z1), rgba, material),
+                 block((xa + f, 0.3 * t, z0 + f), (xb - f, 0.6 * t, z1 - f), glass, "glass")]
+    if panel is not None:
+        m = min(0.07, 0.15 * width)
+        parts.append(block((xa + m, t, z0 + m), (xb - m, t + 0.006, z1 - m), panel, material, collision="none"))
+    parts += handle(free, t, (z0 + z1) / 2 if handle_z is None else handle_z, z1 - z0)
+    pos = (x0 if hinge_left else x1, y_front, 0.0)
+    axis = (0.0, 0.0, 1.0) if hinge_left else (0.0, 0.0, -1.0)
+    return Link(name, parts, pos, Joint("hinge", axis, DOOR_RANGE))
+
+
+def drawer(name: str, x0: float, x1: float, y_front: float, depth: float, z0: float, z1: float, *,
+           front: RGBA, body: RGBA, material: str, handle: Handle, handle_at: float = 0.5) -> tuple[Link, Receptacle]:
+    """An open-topped drawer filling the slot x0..x1, z0..z1 behind the plane ``y_front``, with
+    the ``handle`` parts centred on its front at ``handle_at`` of the slot's height.
+
+    The link origin is the slot's front-bottom centre. The receptacle is the drawer's inner
+    bottom, in the drawer's frame, with the inner height as clearance.
+    """
+    gap, front_t, wall = 0.003, 0.02, 0.012
+    hw = (x1 - x0) / 2 - gap
+    h = z1 - z0
+    bw = hw - 0.008  # the box runs clear of the carcass sides
+    bottom = (gap + 0.006, gap + 0.006 + wall)
+    side_top = gap + 0.75 * h
+    back = -depth + wall
+    parts = [
+        block((-hw, -front_t, gap), (hw, 0.0, h - gap), front, material),
+        block((-bw, -depth, bottom[0]), (bw, -front_t, bottom[1]), body, material),
+        block((-bw, -depth, bottom[1]), (-bw + wall, -front_t, side_top), body, material),
+        block((bw - wall, -depth, bottom[1]), (bw, -front_t, side_top), body, material),
+        block((-bw + wall, -depth, bottom[1]), (bw - wall, back, side_top), body, material),
+        *handle(0.0, 0.0, h * handle_at, h),
+    ]
+    inner = top_receptacle(name, (-bw + wall, back, 0.0), (bw - wall, -front_t, bottom[1]),
+                           link=name, clearance=side_top - bottom[1])
+    link = Link(name, parts, ((x0 + x1) / 2, y_front, z0), Joint("slide", (0.0, 1.0, 0.0), (0.0, 0.8 * depth)))
+    return link, inner
+
+
+# ---------------------------------------------------------------------------------------
 # Annotations and the asset frame.
 
 
@@ -310,6 +445,14 @@ def top_receptacle(name: str, lo, hi, *, inset: float = 0.03, link: str = "base"
     (x0, y0, _), (x1, y1, z1) = (tuple(float(c) for c in corner) for corner in (lo, hi))
     return Receptacle(name, ((x0 + x1) / 2, (y0 + y1) / 2),
                       ((x1 - x0) / 2 - inset, (y1 - y0) / 2 - inset), z1, link, float(clearance))
+
+
+def round_top(name: str, radius: float, segments: int, height: float, *, inset: float = 0.02,
+              center: tuple[float, float] = (0.0, 0.0), clearance: float = 1.0) -> Receptacle:
+    """The square inside a round top of ``segments`` sides and ``radius`` centred on ``center``,
+    ``inset`` from its edge."""
+    half = radius * np.cos(np.pi / segments) / np.sqrt(2) - inset
+    return Receptacle(name, center, (float(half), float(half)), float(height), "base", float(clearance))
 
 
 def _xyz(point: np.ndarray) -> tuple[float, float, float]:

@@ -19,6 +19,7 @@ from legent_gym.world.assets.library.common import (
     RGBA,
     SCREEN,
     WHITE,
+    WICKERS,
     WOODS,
     Colours,
     block,
@@ -40,20 +41,14 @@ WAXES: Colours = (
     (0.70, 0.80, 0.68),  # sage
     (0.85, 0.62, 0.65),  # rose
 )
-WICKERS: Colours = (
-    (0.78, 0.62, 0.40),  # natural rattan
-    (0.62, 0.45, 0.27),  # honey willow
-    (0.42, 0.29, 0.18),  # dark willow
-    (0.70, 0.66, 0.58),  # grey-washed
-    (0.88, 0.85, 0.78),  # white-washed
-)
 KRAFTS: Colours = (
     (0.72, 0.55, 0.36),
     (0.66, 0.50, 0.32),
     (0.78, 0.62, 0.42),
     (0.60, 0.45, 0.29),
 )
-STONES: Colours = (
+#: River pebbles of a stacked-stone cairn.
+PEBBLES: Colours = (
     (0.55, 0.55, 0.53),  # grey
     (0.35, 0.35, 0.36),  # slate
     (0.72, 0.68, 0.60),  # sandstone
@@ -386,7 +381,7 @@ def make_figurine(rng: np.random.Generator) -> AssetModel:
         for _ in range(3):
             t = r * rng.uniform(0.55, 0.8)
             parts.append(lathe([(0.6 * r, 0.0), (r, 0.4 * t), (0.7 * r, 0.85 * t), (0.0, t)],
-                               pick(rng, STONES, jitter=0.06), "plain", segments=8, center=(0, 0, z)))
+                               pick(rng, PEBBLES, jitter=0.06), "plain", segments=8, center=(0, 0, z)))
             z += 0.9 * t
             r *= rng.uniform(0.7, 0.85)
         return small_object("figurine", parts, names + ["stones"], 2600.0, rooms)

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from legent_gym.world.assets import registry
 from legent_gym.world.assets.library.common import (
     APPLIANCES,
     BEDDING,
@@ -19,87 +18,50 @@ from legent_gym.world.assets.library.common import (
     COUNTERTOPS,
     FABRICS,
     FOLIAGE,
-    LEATHERS,
     METALS,
     RGBA,
     SCREEN,
     WHITE,
     WOODS,
+    Handle,
     block,
+    drawer,
     finish,
+    hinged_door,
     lathe,
     legs,
     pick,
+    register_builtins,
     rod,
+    round_top,
     shade,
     top_receptacle,
+    upholstery,
+    wood_or_metal,
 )
-from legent_gym.world.assets.model import AssetModel, Joint, Link, Part, Receptacle, sphere_part
+from legent_gym.world.assets.model import AssetModel, Part, Receptacle, sphere_part
 
-DOOR_RANGE = (0.0, 1.75)  # radians: a little past 90 degrees
+#: How often a frame is wood rather than metal, and a cover leather rather than fabric.
+P_WOOD, P_LEATHER = 0.7, 0.25
 
 
 # ---------------------------------------------------------------------------------------
-# Moving parts shared by several pieces.
+# Handles of the doors and drawers.
 
 
-def _hinged_door(name: str, x0: float, x1: float, y_front: float, z0: float, z1: float,
-                 thickness: float, hinge_left: bool, rgba: RGBA, handle_rgba: RGBA,
-                 material: str, handle_z: float | None = None) -> Link:
-    """A door covering x0..x1 in front of the plane ``y_front``, hinged on one vertical edge.
-
-    The link origin is on the hinge axis; the left-hinged door turns about +z and the
-    right-hinged one about -z, so both open toward +y with positive joint values.
-    """
-    width = x1 - x0
-    xs = (0.0, width) if hinge_left else (-width, 0.0)
-    free = width - 0.05 if hinge_left else -width + 0.05
-    hz = (z0 + z1) / 2 if handle_z is None else handle_z
-    hl = min(0.3, 0.4 * (z1 - z0))
-    parts = [
-        block((xs[0], 0.0, z0), (xs[1], thickness, z1), rgba, material),
-        block((free - 0.012, thickness, hz - hl / 2), (free + 0.012, thickness + 0.028, hz + hl / 2),
-              handle_rgba, "metal"),
-    ]
-    pos = (x0 if hinge_left else x1, y_front, 0.0)
-    axis = (0.0, 0.0, 1.0) if hinge_left else (0.0, 0.0, -1.0)
-    return Link(name, parts, pos, Joint("hinge", axis, DOOR_RANGE))
+def _door_bar(rgba: RGBA) -> Handle:
+    """A vertical bar pull, 40 % of the door's height and at most 30 cm long."""
+    def make(x: float, y: float, z: float, height: float) -> list[Part]:
+        hl = min(0.3, 0.4 * height)
+        return [block((x - 0.012, y, z - hl / 2), (x + 0.012, y + 0.028, z + hl / 2), rgba, "metal")]
+    return make
 
 
-def _drawer(name: str, x0: float, x1: float, y_front: float, depth: float, z0: float, z1: float,
-            front_rgba: RGBA, body_rgba: RGBA, handle_rgba: RGBA) -> tuple[Link, Receptacle]:
-    """An open-topped drawer filling the slot x0..x1, z0..z1 behind the plane ``y_front``.
-
-    The link origin is the slot's front-bottom centre. The receptacle is the drawer's inner
-    bottom, in the drawer's frame, with the inner height as clearance.
-    """
-    gap, front_t, wall = 0.003, 0.02, 0.012
-    hw = (x1 - x0) / 2 - gap
-    h = z1 - z0
-    bw = hw - 0.008  # the box runs clear of the carcass sides
-    bottom = (gap + 0.006, gap + 0.006 + wall)
-    side_top = gap + 0.75 * h
-    back = -depth + wall
-    parts = [
-        block((-hw, -front_t, gap), (hw, 0.0, h - gap), front_rgba, "wood"),
-        block((-bw, -depth, bottom[0]), (bw, -front_t, bottom[1]), body_rgba, "wood"),
-        block((-bw, -depth, bottom[1]), (-bw + wall, -front_t, side_top), body_rgba, "wood"),
-        block((bw - wall, -depth, bottom[1]), (bw, -front_t, side_top), body_rgba, "wood"),
-        block((-bw + wall, -depth, bottom[1]), (bw - wall, back, side_top), body_rgba, "wood"),
-        block((-0.06, 0.0, h / 2 - 0.01), (0.06, 0.025, h / 2 + 0.01), handle_rgba, "metal"),
-    ]
-    inner = top_receptacle(name, (-bw + wall, back, 0.0), (bw - wall, -front_t, bottom[1]),
-                           link=name, clearance=side_top - bottom[1])
-    link = Link(name, parts, ((x0 + x1) / 2, y_front, z0), Joint("slide", (0.0, 1.0, 0.0), (0.0, 0.8 * depth)))
-    return link, inner
-
-
-def _wood_or_metal(rng: np.random.Generator) -> tuple[RGBA, str]:
-    return (pick(rng, WOODS), "wood") if rng.random() < 0.7 else (pick(rng, METALS), "metal")
-
-
-def _upholstery(rng: np.random.Generator) -> tuple[RGBA, str]:
-    return (pick(rng, LEATHERS), "leather") if rng.random() < 0.25 else (pick(rng, FABRICS), "fabric")
+def _drawer_bar(rgba: RGBA) -> Handle:
+    """A 12 cm bar pull across a drawer front."""
+    def make(x: float, y: float, z: float, height: float) -> list[Part]:
+        return [block((x - 0.06, y, z - 0.01), (x + 0.06, y + 0.025, z + 0.01), rgba, "metal")]
+    return make
 
 
 # ---------------------------------------------------------------------------------------
@@ -160,9 +122,9 @@ def make_wardrobe(rng: np.random.Generator) -> AssetModel:
     ]
     doors = 2 if width >= 0.9 else 1
     edges = np.linspace(-hw, hw, doors + 1)
-    moving = [_hinged_door(f"door_{i}", edges[i] + 0.002, edges[i + 1] - 0.002, yf, plinth, height - 0.005,
-                           door_t, hinge_left=(i == 0), rgba=wood, handle_rgba=handle, material="wood",
-                           handle_z=1.05)
+    moving = [hinged_door(f"door_{i}", edges[i] + 0.002, edges[i + 1] - 0.002, yf, plinth, height - 0.005,
+                          hinge_left=(i == 0), rgba=wood, material="wood", handle=_door_bar(handle),
+                          thickness=door_t, handle_z=1.05)
               for i in range(doors)]
     door_w = float(edges[1] - edges[0])
     return finish("wardrobe", parts, moving=moving, names=["wardrobe", "closet", "armoire"],
@@ -200,8 +162,8 @@ def make_dresser(rng: np.random.Generator) -> AssetModel:
     hw, hd, t = width / 2, depth / 2, 0.018
     moving, recs = [], [top_receptacle("top", *top_box)]
     for i in range(n):
-        link, rec = _drawer(f"drawer_{i}", -hw + t, hw - t, hd, depth - 0.03, slots[i], slots[i + 1],
-                            front, shade(wood, 0.9), handle)
+        link, rec = drawer(f"drawer_{i}", -hw + t, hw - t, hd, depth - 0.03, slots[i], slots[i + 1],
+                           front=front, body=shade(wood, 0.9), material="wood", handle=_drawer_bar(handle))
         moving.append(link)
         recs.append(rec)
     return finish("dresser", parts, moving=moving, receptacles=recs,
@@ -223,11 +185,11 @@ def make_nightstand(rng: np.random.Generator) -> AssetModel:
     shelf_lo, shelf_hi = (-hw + t, -hd + 0.01, leg_h), (hw - t, hd - 0.02, leg_h + t)
     parts.append(block((-hw + t, -hd + 0.01, drawer_z - t), (hw - t, hd, drawer_z), shade(wood, 0.9), "wood"))
     parts += legs(-hw, hw, -hd, hd, 0.0, leg_h, 0.04, shade(wood, 0.8), "wood")
-    drawer, inner = _drawer("drawer_0", -hw + t, hw - t, hd, depth - 0.03, drawer_z, top_z,
-                            wood, shade(wood, 0.9), handle)
+    link, inner = drawer("drawer_0", -hw + t, hw - t, hd, depth - 0.03, drawer_z, top_z,
+                         front=wood, body=shade(wood, 0.9), material="wood", handle=_drawer_bar(handle))
     recs = [top_receptacle("top", *top_box), inner,
             top_receptacle("shelf", shelf_lo, shelf_hi, clearance=drawer_z - t - shelf_hi[2])]
-    return finish("nightstand", parts, moving=[drawer], receptacles=recs,
+    return finish("nightstand", parts, moving=[link], receptacles=recs,
                   names=["nightstand", "bedside table", "night table"], rooms=["bedroom"],
                   placement="wall", front_clearance=0.5, mass=float(rng.uniform(10, 20)))
 
@@ -239,8 +201,8 @@ def make_nightstand(rng: np.random.Generator) -> AssetModel:
 def _seating(rng: np.random.Generator, width: float, seats: int) -> tuple[list[Part], Receptacle]:
     """A sofa-like seat: legs, base, backrest, arms, seat and back cushions."""
     depth, height = rng.uniform(0.8, 0.98), rng.uniform(0.75, 0.95)
-    cover, material = _upholstery(rng)
-    leg_c, leg_m = _wood_or_metal(rng)
+    cover, material = upholstery(rng, P_LEATHER)
+    leg_c, leg_m = wood_or_metal(rng, P_WOOD)
     leg_h = rng.uniform(0.05, 0.14)
     base_top = leg_h + rng.uniform(0.17, 0.22)
     seat_h = base_top + rng.uniform(0.1, 0.14)
@@ -281,7 +243,7 @@ def make_armchair(rng: np.random.Generator) -> AssetModel:
 def _table(rng: np.random.Generator, width: float, depth: float, height: float, *,
            apron: bool = False, shelf: bool = False) -> tuple[list[Part], list[Receptacle]]:
     """A top on four legs, optionally with an apron under the top or a shelf low between the legs."""
-    color, material = _wood_or_metal(rng)
+    color, material = wood_or_metal(rng, P_WOOD)
     top_c = color if material == "wood" and rng.random() < 0.7 else pick(rng, WOODS)
     top_t, leg = rng.uniform(0.025, 0.05), rng.uniform(0.04, 0.07)
     hw, hd = width / 2, depth / 2
@@ -326,13 +288,12 @@ def make_side_table(rng: np.random.Generator) -> AssetModel:
     if rng.random() < 0.5:
         parts, recs = _table(rng, size, size * rng.uniform(0.85, 1.0), height)
     else:
-        color, material = _wood_or_metal(rng)
+        color, material = wood_or_metal(rng, P_WOOD)
         r, top_t, seg = size / 2, rng.uniform(0.025, 0.04), 12
         parts = [rod(0, 0, height - top_t, height, r, color, material, segments=seg),
                  rod(0, 0, 0.02, height - top_t, rng.uniform(0.02, 0.035), color, material),
                  rod(0, 0, 0.0, 0.02, r * rng.uniform(0.5, 0.7), color, material, segments=10)]
-        half = r * np.cos(np.pi / seg) / np.sqrt(2) - 0.03  # square inside the top polygon
-        recs = [Receptacle("top", (0.0, 0.0), (half, half), float(height))]
+        recs = [round_top("top", r, seg, height, inset=0.03)]
     return finish("side_table", parts, receptacles=recs, names=["side table", "end table", "table"],
                   rooms=["living_room", "bedroom", "hallway", "office"], placement="corner", front_clearance=0.3,
                   mass=float(rng.uniform(5, 12)))
@@ -467,7 +428,7 @@ def make_floor_lamp(rng: np.random.Generator) -> AssetModel:
 
 def make_desk(rng: np.random.Generator) -> AssetModel:
     width, depth, height = rng.uniform(1.0, 1.6), rng.uniform(0.55, 0.75), rng.uniform(0.72, 0.76)
-    color, material = _wood_or_metal(rng)
+    color, material = wood_or_metal(rng, P_WOOD)
     top_c, handle = pick(rng, WOODS), pick(rng, METALS)
     top_t, leg = rng.uniform(0.025, 0.04), 0.05
     hw, hd = width / 2, depth / 2
@@ -498,7 +459,7 @@ def make_desk(rng: np.random.Generator) -> AssetModel:
 def make_chair(rng: np.random.Generator) -> AssetModel:
     width, depth = rng.uniform(0.4, 0.5), rng.uniform(0.42, 0.52)
     seat_h, back_h = rng.uniform(0.43, 0.48), rng.uniform(0.8, 1.0)
-    color, material = _wood_or_metal(rng)
+    color, material = wood_or_metal(rng, P_WOOD)
     leg, seat_t = rng.uniform(0.03, 0.045), rng.uniform(0.025, 0.04)
     hw, hd = width / 2, depth / 2
     padded = rng.random() < 0.5
@@ -512,7 +473,7 @@ def make_chair(rng: np.random.Generator) -> AssetModel:
     for z in np.linspace(back_h - 0.1, seat_top + 0.15, 2 if rng.random() < 0.5 else 1):
         parts.append(block((-hw + leg, -hd + 0.005, z - 0.04), (hw - leg, -hd + leg - 0.005, z + 0.04), color, material))
     if padded:
-        cushion, cm = _upholstery(rng)
+        cushion, cm = upholstery(rng, P_LEATHER)
         lo, hi = (-hw + 0.01, -hd + leg, seat_top), (hw - 0.01, hd - 0.01, seat_h)
         parts.append(block(lo, hi, cushion, cm))
     seat = top_receptacle("seat", (lo[0], -hd + leg, 0.0), hi)  # clear of the back posts
@@ -630,13 +591,14 @@ def make_fridge(rng: np.random.Generator) -> AssetModel:
     moving = []
     if split is not None:
         parts.append(block((-hw + t, -hd + t, split - t), (hw - t, yf, split), shell, "metal"))
-        moving.append(_hinged_door("door_1", -hw, hw, yf, split + 0.003, height, door_t, hinge_left,
-                                   shell, handle, "metal"))
+        moving.append(hinged_door("door_1", -hw, hw, yf, split + 0.003, height, hinge_left=hinge_left,
+                                  rgba=shell, material="metal", handle=_door_bar(handle), thickness=door_t))
         main_top = split - 0.003
     else:
         main_top = height
-    moving.insert(0, _hinged_door("door_0", -hw, hw, yf, base, main_top, door_t, hinge_left, shell, handle,
-                                  "metal", handle_z=min(1.1, main_top - 0.25)))
+    moving.insert(0, hinged_door("door_0", -hw, hw, yf, base, main_top, hinge_left=hinge_left, rgba=shell,
+                                 material="metal", handle=_door_bar(handle), thickness=door_t,
+                                 handle_z=min(1.1, main_top - 0.25)))
     return finish("fridge", parts, moving=moving, receptacles=recs, names=["fridge", "refrigerator"],
                   rooms=["kitchen"], placement="wall", front_clearance=max(0.8, width + 0.1),
                   mass=float(rng.uniform(50, 90)))
@@ -714,5 +676,4 @@ FACTORIES = {
     "floor_lamp": make_floor_lamp,
 }
 
-for _asset_id, _factory in FACTORIES.items():
-    registry.register(_asset_id, _factory, builtin=True)
+register_builtins(FACTORIES)

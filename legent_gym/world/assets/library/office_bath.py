@@ -20,6 +20,8 @@ from legent_gym.world.assets.library.common import (
     RGBA,
     SCREEN,
     WOODS,
+    along_x,
+    annulus,
     block,
     lathe,
     pick,
@@ -41,7 +43,7 @@ PAPER = ((0.96, 0.95, 0.9), (0.98, 0.97, 0.94), (0.95, 0.92, 0.82))
 
 
 # ---------------------------------------------------------------------------------------
-# Part builders the shared ones lack: extruded outlines, rings with a hole, turned ovals.
+# Part builders the shared ones lack: extruded outlines, turned ovals.
 
 
 def _prism(outline: Sequence[tuple[float, float]], z0: float, z1: float, rgba: RGBA, material: str, *,
@@ -64,42 +66,6 @@ def _prism_faces(n: int) -> np.ndarray:
     out = np.array(faces, dtype=np.int32)
     out.flags.writeable = False
     return out
-
-
-def _annulus(outer: tuple[float, float], inner: tuple[float, float], z0: float, z1: float, rgba: RGBA,
-             material: str, *, centre: tuple[float, float] = (0.0, 0.0), segments: int = 8,
-             collision: Collision = "hull") -> Part:
-    """A ring with a hole through it (finger loop, paper roll): elliptical outer and inner
-    semi-axes (x, y), from ``z0`` to ``z1``. A :func:`lathe` cannot leave the hole open."""
-    ang = np.linspace(0.0, 2.0 * np.pi, segments, endpoint=False)
-    c, s = np.cos(ang), np.sin(ang)
-    rings = [np.column_stack([centre[0] + ax * c, centre[1] + ay * s, np.full(segments, z)])
-             for (ax, ay) in (outer, inner) for z in (z0, z1)]
-    return Part.exact(np.concatenate(rings), _annulus_faces(segments).copy(), rgba, collision,
-                      material=material)
-
-
-@lru_cache(maxsize=16)
-def _annulus_faces(n: int) -> np.ndarray:
-    """Faces of :func:`_annulus`: rings outer-bottom, outer-top, inner-bottom, inner-top."""
-    faces = []
-    for i in range(n):
-        j = (i + 1) % n
-        ob, ot, ib, it = (0, i, j), (n, n + i, n + j), (2 * n, 2 * n + i, 2 * n + j), (3 * n, 3 * n + i, 3 * n + j)
-        faces += [[ob[1], ob[2], ot[2]], [ob[1], ot[2], ot[1]],  # outer wall, facing out
-                  [ib[1], it[2], ib[2]], [ib[1], it[1], it[2]],  # inner wall, facing the hole
-                  [ot[1], ot[2], it[2]], [ot[1], it[2], it[1]],  # top
-                  [ob[1], ib[2], ob[2]], [ob[1], ib[1], ib[2]]]  # bottom
-    out = np.array(faces, dtype=np.int32)
-    out.flags.writeable = False
-    return out
-
-
-def _along_x(part: Part) -> Part:
-    """``part`` turned so that its z axis runs along x (and its x along y, its y up): a
-    cyclic swap of the axes, a proper rotation, so the faces keep facing outward."""
-    v = np.ascontiguousarray(part.vertices[:, [2, 0, 1]])
-    return Part.exact(v, part.faces.copy(), part.rgba, part.collision, material=part.material)
 
 
 def _oval_lathe(profile: Sequence[tuple[float, float]], sy: float, rgba: RGBA, material: str, *,
@@ -133,9 +99,9 @@ def make_pen(rng: np.random.Generator) -> AssetModel:
     barrel = pick(rng, COVERS + DARK_PLASTICS[2:])
     trim = pick(rng, METALS[:3] + DARK_PLASTICS[:1])
     section = [(-half, 0.0), (half, 0.0), (half + bulge, h / 2), (half, h), (-half, h), (-half - bulge, h / 2)]
-    body = _along_x(_prism(section, tip, length, barrel, "plastic"))
+    body = along_x(_prism(section, tip, length, barrel, "plastic"))
     nose = 0.42 * h
-    point = _along_x(lathe([(0.0, 0.0), (0.25 * nose, 0.003), (nose, tip + 0.001)], trim, "metal", segments=6))
+    point = along_x(lathe([(0.0, 0.0), (0.25 * nose, 0.003), (nose, tip + 0.001)], trim, "metal", segments=6))
     point = transformed(point, offset=(0.0, 0.0, h / 2))
     parts = [body, point]
     if rng.random() < 0.5:
@@ -143,13 +109,13 @@ def make_pen(rng: np.random.Generator) -> AssetModel:
         cap = pick(rng, COVERS)
         grow = 0.0006
         wide = [(x + (grow if x > 0 else -grow), z + (grow if z > h / 2 else -grow)) for x, z in section]
-        parts.append(_along_x(_prism(wide, -0.002, 0.05, cap, "plastic", collision="none")))
+        parts.append(along_x(_prism(wide, -0.002, 0.05, cap, "plastic", collision="none")))
         clip_x, clip_z, clip = 0.012, h + grow, cap
     else:
         # A click button out of the back end.
         button = lathe([(0.3 * h, length - 0.002), (0.3 * h, length + 0.006)], trim, "plastic", segments=6,
                        collision="none")
-        parts.append(transformed(_along_x(button), offset=(0.0, 0.0, h / 2)))
+        parts.append(transformed(along_x(button), offset=(0.0, 0.0, h / 2)))
         clip_x, clip_z, clip = length - 0.045, h, trim
     parts.append(block((clip_x, -0.0017, clip_z - 0.0005), (clip_x + 0.035, 0.0017, clip_z + 0.0022), clip,
                        "metal", collision="none"))
@@ -229,7 +195,7 @@ def make_scissors(rng: np.random.Generator) -> AssetModel:
              _prism(mirror, t, 2 * t, shade(steel, 0.92), "metal")]
     for sy, scale in ((-1, 1.0), (1, big)):
         ax, ay = ox * scale, oy * scale
-        parts.append(_annulus((ax, ay), (ax - wall, ay - wall), 0.0, loop_t, grip, "plastic",
+        parts.append(annulus((ax, ay), (ax - wall, ay - wall), 0.0, loop_t, grip, "plastic",
                               centre=(-shank - ax + 0.7 * wall, sy * (yl + ay - oy)), segments=6))
     parts.append(rod(0.0, 0.0, 0.0, 2 * t + 0.001, 0.0025, shade(steel, 0.7), "metal", segments=6,
                      collision="none"))
@@ -256,7 +222,7 @@ def make_keyboard(rng: np.random.Generator) -> AssetModel:
     case, keys = pick(rng, (case_rgb,), jitter=0.05), pick(rng, (keys_rgb,), jitter=0.05)
     key_h, margin = rng.uniform(0.004, 0.006), rng.uniform(0.01, 0.016)
     hw, hd = w / 2, d / 2
-    wedge = _along_x(_prism([(-hd, 0.0), (hd, 0.0), (hd, front), (-hd, back)], -hw, hw, case, "plastic"))
+    wedge = along_x(_prism([(-hd, 0.0), (hd, 0.0), (hd, front), (-hd, back)], -hw, hw, case, "plastic"))
     parts = [wedge]
 
     def surface(y: float) -> float:
@@ -427,9 +393,9 @@ def make_toilet_paper(rng: np.random.Generator) -> AssetModel:
     outer, inner, h = rng.uniform(0.048, 0.06), rng.uniform(0.019, 0.022), rng.uniform(0.095, 0.11)
     paper = pick(rng, ((0.96, 0.96, 0.95), (0.95, 0.93, 0.87), (0.95, 0.9, 0.91), (0.9, 0.93, 0.96)), jitter=0.02)
     card = pick(rng, ((0.62, 0.5, 0.36), (0.7, 0.6, 0.45), (0.55, 0.45, 0.35)), jitter=0.05)
-    parts = [_annulus((outer, outer), (inner, inner), 0.0, h, paper, "paper", segments=10),
+    parts = [annulus((outer, outer), (inner, inner), 0.0, h, paper, "paper", segments=10),
              # The cardboard core lines the hole, just inside the paper's inner face.
-             _annulus((inner + 0.001, inner + 0.001), (inner - 0.0015, inner - 0.0015), 0.0003, h - 0.0003, card, "paper",
+             annulus((inner + 0.001, inner + 0.001), (inner - 0.0015, inner - 0.0015), 0.0003, h - 0.0003, card, "paper",
                       collision="none")]
     return small_object("toilet_paper", parts, ["toilet paper", "toilet roll", "tissue roll"], 200.0, BATHROOM)
 
