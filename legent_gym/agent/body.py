@@ -33,7 +33,6 @@ import numpy as np
 
 from legent_gym.agent.clearance import ClearanceMap
 from legent_gym.agent.motion import Animator, IKSolution, Keyframe, MotionLog
-from legent_gym.world.assets.model import AssetModel
 from legent_gym.world.builder import GROUP_COLLISION, World
 from legent_gym.world.humanoid import appearance_for
 from legent_gym.world.rays import RayHit, cast_ray
@@ -562,12 +561,12 @@ class Body:
         if not asset.receptacles:
             return f"object {_names(world, host)} has no surface to put things on"
         item_lo, item_hi = world.assets[item].bounds()
-        item_r, item_h = _footprint_radius(world.assets[item]), float(item_hi[2] - item_lo[2])
+        item_r, item_h = world.assets[item].footprint_radius(), float(item_hi[2] - item_lo[2])
         body = world.object_body[host]
         # What stands there already, each as a circle round its footprint: a spot is taken
         # when the two circles come within 2 cm (a big object's edge reaches far from its
         # centre; the item set down on it would be thrown off).
-        others = [(world.object_position(o), _footprint_radius(world.assets[o]))
+        others = [(world.object_position(o), world.assets[o].footprint_radius())
                   for o in world.free_objects if o not in (item, host)]
         candidates = []
         for rec in asset.receptacles:
@@ -622,12 +621,6 @@ class Body:
         if self.state.held is not None:
             self._carry()
         # Avatars are mocap bodies: physics never moves them, so nothing else to restore.
-
-
-def _footprint_radius(model: AssetModel) -> float:
-    """Half the diagonal of an asset's footprint: a circle round it however it is turned."""
-    lo, hi = model.bounds()
-    return float(np.hypot(*(hi[:2] - lo[:2]))) / 2
 
 
 class _Batch:

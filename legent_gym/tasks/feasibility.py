@@ -242,8 +242,7 @@ def put_spot(ctx: TaskContext, host: int, point: np.ndarray, item: int) -> np.nd
     spot = ctx.agent.free_spot(host, point, item)
     if isinstance(spot, str):
         return None
-    lo, hi = ctx.world.assets[item].bounds()
-    radius = float(np.hypot(*(hi[:2] - lo[:2]))) / 2
+    radius = ctx.world.assets[item].footprint_radius()
     for obj in ctx.scene.objects:
         if obj.on == host and obj.kind != "interactable" and obj.id != item \
                 and abs(ctx.world.object_position(obj.id)[2] - spot[2]) < 0.15 \

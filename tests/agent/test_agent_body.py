@@ -233,3 +233,17 @@ def _point_in(polygon, xy) -> bool:
     from legent_gym.world.geometry import points_in_polygon
 
     return bool(points_in_polygon(np.asarray([xy], dtype=float), np.asarray(polygon, dtype=float))[0])
+
+
+def test_a_put_keeps_clear_of_what_stands_there(house):
+    """Each object on a surface is a circle round its footprint, as the item is: a spot
+    whose circle meets one is taken (an item set down touching it would be thrown off)."""
+    scene, world, agent = house
+    bed = _first(scene, "bed")
+    vase = next(o for o in scene.objects if o.asset == "vase")
+    orange = next(o for o in scene.objects if o.asset == "orange" and o.on == bed.id)
+    touching = world.assets[vase.id].footprint_radius() + world.assets[orange.id].footprint_radius()
+    x, y, z = orange.position
+    assert "no room" in agent.free_spot(bed.id, np.array([x + touching, y, z]), vase.id)
+    spot = agent.free_spot(bed.id, np.array([x + touching + 0.05, y, z]), vase.id)
+    assert not isinstance(spot, str) and spot[0] == pytest.approx(x + touching + 0.05)

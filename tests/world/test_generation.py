@@ -22,7 +22,7 @@ from legent_gym.world.generation import (
     generate_house,
     parse_rooms,
 )
-from legent_gym.world.generation.furnish import SUPPORTS
+from legent_gym.world.generation.furnish import ROOM_SURFACE_PIECES, SUPPORTS
 from legent_gym.world.generation.validate import find_receptacle
 from legent_gym.world.geometry import object_footprint, polygon_signed_area
 from legent_gym.world.navigation import NavGrid
@@ -378,3 +378,20 @@ def test_thousand_seeds_valid_deterministic_and_diverse(preset):
           f"sets, {len(furniture_sets)} distinct furniture sets; median {np.median(times) * 1e3:.0f} ms, "
           f"max {max(times) * 1e3:.0f} ms per house")
     assert len(layouts) > 900 and len(object_sets) > 500
+
+
+ROOM_SURFACE_PIECES_KITCHEN = {rule.category for rule in ROOM_SURFACE_PIECES["kitchen"]}
+
+
+def test_kitchen_counters_hold_appliances():
+    """ROOM_SURFACE_PIECES: kitchens stand a microwave, coffee machine or toaster on a free
+    counter, one piece per counter."""
+    standing = []
+    for seed in range(10):
+        scene = generate_house(seed, "FourRoom")
+        on_counters = [o for o in scene.objects if o.on is not None
+                       and registry.describe(scene.object(o.on).asset).category == "kitchen_counter"
+                       and registry.describe(o.asset).category in ROOM_SURFACE_PIECES_KITCHEN]
+        assert len({o.on for o in on_counters}) == len(on_counters)
+        standing += on_counters
+    assert {registry.describe(o.asset).category for o in standing} == ROOM_SURFACE_PIECES_KITCHEN

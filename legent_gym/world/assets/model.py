@@ -156,6 +156,11 @@ class AssetModel:
         """``(x0, y0, x1, y1)``: the bounds' box on the floor, in the asset frame (a copy)."""
         return self.derived("footprint", lambda m: m.derived("bounds", _bounds)[:, :2].reshape(-1)).copy()
 
+    def footprint_radius(self) -> float:
+        """Half the diagonal of the footprint: a circle round the asset however it is turned."""
+        return float(self.derived("footprint radius", lambda m: float(np.hypot(*np.ptp(
+            m.derived("bounds", _bounds)[:, :2], axis=0))) / 2))
+
     def derived(self, name: Hashable, compute):
         """``compute(self)``, kept with the model: generation and the agent ask for the same
         facts of a model (its bounds, footprint, turned footprints) many times. Models are
