@@ -45,6 +45,9 @@ ARRIVED = 0.05  # metres left on a path that count as arrived
 AIM_EPSILON = 0.01  # metres of reach an aim keeps in hand against rounding
 DETOUR_STEP = 0.3  # metres walked sideways when the straight move is blocked
 STAND_RETRIES = 3  # stands tried in a row on arrival before giving up
+# metres round a stand that failed on arrival where no other stand is tried: its neighbour
+# on the grid sees the object past the same obstacle (a plant's leaves) and fails the same
+FAILED_STAND_CLEARANCE = 0.25
 SCAN_TURN = 60.0  # degrees turned right per look of a scan: the 90-degree views overlap by 30
 SCAN_PITCH = 20.0  # degrees down a scan looks: objects stand on furniture below the eye
 FIND_STRATEGIES = ("direct", "scan")
@@ -238,8 +241,10 @@ class Planner:
             stand = self._stands.get(key)
             if stand is not None and o.stand_ok(stand, object_id, purpose):
                 return stand, purpose
+            failed = [stand for bad_key, stand in self._bad_stands if bad_key == key]
             for candidate in o.stands(object_id, purpose):
-                if (key, candidate) not in self._bad_stands:
+                if all(np.hypot(candidate[0] - f[0], candidate[1] - f[1]) > FAILED_STAND_CLEARANCE
+                       for f in failed):
                     self._stands[key] = candidate
                     return candidate, purpose
         what = {"sight": "reached and seen", "aim": "reached", "put": "reached with a free spot",
