@@ -40,12 +40,19 @@ class StockRender:
     construction), with nothing of ours in between."""
 
     def __init__(self, renderer, camera: str = "agent"):
-        import mujoco
         import numpy as np
 
         self.option, self.camera, flags = renderer.mujoco_settings(camera)
         self.data = renderer.world.data
+        import mujoco
+
+        from legent_gym.world.render import set_texture_filters
+
         self.stock = mujoco.Renderer(renderer.world.model, renderer.height, renderer.width)
+        # Its textures sampled as ours are (it samples every texture trilinearly); it keeps
+        # its GL and MuJoCo contexts in attributes of its own.
+        self.stock._gl_context.make_current()
+        set_texture_filters(self.stock._mjr_context, renderer.world.model, renderer.profile)
         self.stock.scene.flags[:] = flags
         if not np.array_equal(self.rgb(), renderer.rgb(camera)):
             raise RuntimeError("mujoco.Renderer draws another image than legent's renderer: not a fair reference")

@@ -77,7 +77,9 @@ def _best_view(world: World, room: Room) -> FreeCamera:
     leaves, and what stands close in front of the lens or fills the picture."""
     furniture = [o.id for o in world.scene.objects if o.room == room.id and o.kind == "static"]
     others = [np.asarray(r.polygon) for r in world.scene.rooms if r.id != room.id]
-    floors = world.model.geom("floors").id  # the floor may come close: it is under the lens
+    # The floor may come close: it is under the lens (the flat floors' geom, and a geom per
+    # patterned floor).
+    floors = [g for g in range(world.model.ngeom) if world.model.geom(g).name.split("_")[0] == "floors"]
     renderer = Renderer(world, PREVIEW, PREVIEW, "fast")
 
     def score(view: FreeCamera) -> float:
@@ -89,7 +91,7 @@ def _best_view(world: World, room: Room) -> FreeCamera:
         shares = np.array([(ids == i).mean() for i in furniture])
         cut = np.isin(furniture, np.concatenate([ids[:, 0], ids[:, -1]]))  # at the picture's side
         pieces = float(((shares > 0.01) * np.where(cut, 0.5, 1.0)).sum())
-        near = float(((depth < NEAR) & (geoms != floors)).mean())
+        near = float(((depth < NEAR) & ~np.isin(geoms, floors)).mean())
         big = max(0.0, float(shares.max(initial=0)) - 0.3)  # one piece over 30%: a close-up
         return pieces - 8 * float(elsewhere.mean()) - 10 * (near + big)
 

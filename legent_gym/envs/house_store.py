@@ -16,7 +16,8 @@ model read from its binary and a few arrays unpickled.
 * **The digest** covers the scene file's bytes (or the layout, seed and the task's
   conditions of a generated house), the build options (image size included), the asset
   ids registered, and the versions of legent_gym, of its house generator
-  (``GENERATOR_VERSION``) and of MuJoCo: a changed scene file or an upgrade gives new
+  (``GENERATOR_VERSION``), of its builder (``BUILD_VERSION``: what a scene builds into) and
+  of MuJoCo: a changed scene file or an upgrade gives new
   names, never a stale house. A registered asset whose file changed
   under the same id is not seen: empty the folder then.
 * **Safe to share**: every process of a vector env, its helpers and later runs may use one
@@ -45,7 +46,7 @@ from legent_gym.envs.factory import HousePayload
 from legent_gym.envs.houses import House, HouseDraw
 from legent_gym.utils.atomic import atomic_write_bytes
 from legent_gym.world.assets import registry
-from legent_gym.world.builder import BuildOptions
+from legent_gym.world.builder import BUILD_VERSION, BuildOptions
 from legent_gym.world.generation import GENERATOR_VERSION
 
 #: Changes whenever what a ``.house`` file holds changes.
@@ -63,8 +64,8 @@ class HouseStore:
             raise ValueError(f"house_cache={str(folder)!r} cannot be made a folder: {err}") from None
         if not os.access(self.folder, os.W_OK | os.X_OK):
             raise ValueError(f"house_cache={str(folder)!r} is not a folder this process may write to")
-        self._context = repr((STORE_FORMAT, legent_gym.__version__, GENERATOR_VERSION, mujoco.__version__,
-                              options)).encode()
+        self._context = repr((STORE_FORMAT, legent_gym.__version__, GENERATOR_VERSION, BUILD_VERSION,
+                              mujoco.__version__, options)).encode()
         #: Houses loaded from the folder and houses built and stored in it by this process.
         self.loaded = 0
         self.stored = 0

@@ -3,7 +3,9 @@
 What it makes (see ``docs/architecture.md``):
 
 * The house shell (all floors, all walls, all ceilings) as three merged meshes, coloured
-  through the shared palette texture; collision from boxes.
+  through the house's atlas texture (palette colours and pattern tiles:
+  :mod:`legent_gym.world.meshing`), but for patterned floors and papered or tiled walls:
+  one geom per (pattern, colour) on the pattern's repeating texture; collision from boxes.
 * One body per object. Its visual is one mesh geom per link (so identity survives for
   segmentation); collision geoms from the asset parts (exact boxes or convex hulls),
   invisible. Interactable objects get a free joint; furniture is welded to the world;
@@ -31,10 +33,10 @@ from functools import lru_cache
 import mujoco
 import numpy as np
 
-from legent_gym.world import outside
+from legent_gym.world import materials, outside
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.gltf import load_imported_asset
-from legent_gym.world.assets.model import AssetModel, Link, Part, box_part
+from legent_gym.world.assets.model import AssetModel, Link, Part, box_part, cylinder_part
 from legent_gym.world.geometry import (
     door_hinge_point,
     door_leads_outside,
@@ -44,17 +46,26 @@ from legent_gym.world.geometry import (
 )
 from legent_gym.world.humanoid import add_humanoid, appearance_for, element_id
 from legent_gym.world.meshing import (
+    Atlas,
     ColouredMesh,
     MeshAccumulator,
-    Palette,
+    SurfaceAccumulator,
+    SurfaceMesh,
     link_geometry,
+    pattern_variant,
     polygon_surface,
     prepare_link_geometry,
     wall_piece_box,
     wall_pieces,
 )
-from legent_gym.world.scene import Scene, scene_base_dir
+from legent_gym.world.scene import Scene, Surface, scene_base_dir
 from legent_gym.world.styles import get_style, styled_palette
+
+#: The version of what a scene builds into: it changes whenever the same scene and options
+#: give another model (stored houses are keyed by it, :mod:`legent_gym.envs.house_store`).
+#: 2: patterned materials (the atlas, patterned floors and walls), ceiling lamps, and doors
+#: and drawers on kitchen counters, desks, sideboards and tv stands.
+BUILD_VERSION = 2
 
 GROUP_HOUSE, GROUP_OBJECTS, GROUP_CEILING, GROUP_COLLISION, GROUP_AGENT, GROUP_USER = range(6)
 #: The agent's hands share the ceilings' group: every head camera shows it and no view ray
@@ -63,8 +74,16 @@ GROUP_HANDS = GROUP_CEILING
 #: What a person's pixels carry in segmentation images (scene objects carry their ids,
 #: which are never negative; -1 is house, doors and background).
 PERSON_SEGMENTATION_ID = {"user": -2, "agent": -3}
-#: The texture (and material) of the palette every merged mesh takes its colours from.
+#: The texture (and material) every merged mesh takes its colours from: the house's atlas
+#: of palette colours and pattern tiles (:class:`legent_gym.world.meshing.Atlas`).
 PALETTE_TEXTURE = "palette"
+#: The surface patterns drawn on repeating textures (painted walls are flat colours of the
+#: atlas), and how many (pattern, colour) surfaces a house can have so drawn: one texture
+#: each, in every house as many (a renderer's context is reused for a house with as many
+#: textures); the surfaces after them are drawn flat.
+SURFACE_TEXTURE_PATTERNS = ("floorboards", "tile", "carpet", "stone_slabs", "wallpaper")
+SURFACE_TEXTURE_SLOTS = 10
+SURFACE_TEXTURE_PREFIX = "surface_"
 
 FLOOR_THICKNESS = 0.05
 DOOR_LEAF_THICKNESS = 0.04
@@ -123,7 +142,7 @@ class World:
     door_body: dict[str, int]
     geom_object: np.ndarray
     geom_door: dict[int, str]
-    palette: Palette
+    atlas: Atlas
     options: BuildOptions
     free_objects: list[int] = field(default_factory=list)
     geom_segment: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int32))
@@ -223,10 +242,11 @@ class _SpecBuilder:
         self.scene = scene
         self.options = options
         self.spec = mujoco.MjSpec()
-        self.palette = Palette()
+        self.atlas = Atlas()
         self.assets: dict[int, AssetModel] = {}
-        # Geoms whose palette UVs must be filled in once the palette is complete.
-        self._palette_uvs = self.palette.all_uvs()
+        # Meshes and their texture coordinates in texels of the atlas, whose size is known
+        # once every mesh asked for its colours and tiles (_finish_palette).
+        self._atlas_texcoords: list[tuple[mujoco.MjsMesh, np.ndarray]] = []
         #: door id -> initial hinge angle (radians), set on the compiled model's data
         self.door_initial: dict[str, float] = {}
         self._mesh_count = 0
@@ -234,7 +254,7 @@ class _SpecBuilder:
         self._imported = {a.id: a for a in scene.assets}
 
     # -- top level ----------------------------------------------------------------------
-    def build(self) -> tuple[mujoco.MjSpec, Palette]:
+    def build(self) -> tuple[mujoco.MjSpec, Atlas]:
         self._configure()
         self._add_shell()
         for door in self.scene.doors:
@@ -252,7 +272,7 @@ class _SpecBuilder:
             self._add_outside()
         self._add_lights()
         self._finish_palette()
-        return self.spec, self.palette
+        return self.spec, self.atlas
 
     def _configure(self) -> None:
         spec = self.spec
@@ -281,15 +301,26 @@ class _SpecBuilder:
         spec.visual.headlight.diffuse = [style.headlight_diffuse] * 3
         spec.visual.headlight.specular = [0.0, 0.0, 0.0]
         if not self.options.naive:
+            # (sized when every mesh has asked for its colours and tiles)
             tex = spec.add_texture(name=PALETTE_TEXTURE, type=mujoco.mjtTexture.mjTEXTURE_2D,
-                                   width=self.palette.size, height=self.palette.size, nchannel=3)
+                                   width=1, height=1, nchannel=3)
             self._palette_texture = tex
             mat = spec.add_material(name=PALETTE_TEXTURE, specular=0.1, shininess=0.2)
             mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = PALETTE_TEXTURE
+            # (filled by _surface_geom; an unused one is one black texel)
+            self._surface_textures = []
+            for k in range(SURFACE_TEXTURE_SLOTS):
+                name = f"{SURFACE_TEXTURE_PREFIX}{k}"
+                tex = spec.add_texture(name=name, type=mujoco.mjtTexture.mjTEXTURE_2D, width=1, height=1, nchannel=3)
+                tex.data = bytes(3)
+                self._surface_textures.append(tex)
+                mat = spec.add_material(name=name, specular=0.1, shininess=0.2)
+                mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = name
 
     # -- geometry helpers ------------------------------------------------------------------
     def _mesh_geom(self, body, mesh: ColouredMesh, *, group: int, name: str, material: str = PALETTE_TEXTURE) -> None:
-        """A visual-only mesh geom coloured through the palette."""
+        """A visual-only mesh geom coloured through the atlas: a flat face at its colour's
+        palette texel, a patterned face spanning its (pattern, colour) tile."""
         m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
         self._mesh_count += 1
         m.uservert = mesh.vertices.reshape(-1).tolist()
@@ -297,12 +328,59 @@ class _SpecBuilder:
         m.usernormal = mesh.normals.reshape(-1).tolist()
         m.userfacenormal = _each_thrice(mesh.n_faces)
         # Each mesh carries only the texels it uses: small meshes compile fast.
-        used, face_texel = mesh.palette_texels(self.palette)
-        m.usertexcoord = self._palette_uvs[used].reshape(-1).tolist()
-        m.userfacetexcoord = np.repeat(face_texel, 3).tolist()
+        used, face_texel = mesh.palette_texels(self.atlas.palette)
+        texcoords = self.atlas.palette_texel_origin(used) + 0.5
+        corner_texcoord = np.repeat(face_texel, 3)
+        if mesh.face_pattern is not None:
+            texcoords, corner_texcoord = self._tile_texcoords(mesh, texcoords, corner_texcoord)
+        self._atlas_texcoords.append((m, texcoords))
+        m.userfacetexcoord = corner_texcoord.tolist()
         m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
         body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material=material,
                       contype=0, conaffinity=0, group=group, density=0, name=name)
+
+    def _tile_texcoords(self, mesh: ColouredMesh, texcoords: np.ndarray,
+                        corner_texcoord: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The texture coordinates (texels) and each face corner's index into them, with the
+        patterned faces' corners moved into their tiles (those of a full atlas stay flat)."""
+        assert mesh.face_uv is not None
+        tiles, faces, which = mesh.tile_keys
+        origins = np.full((len(tiles), 2), np.nan)
+        for i, (pattern, colour) in enumerate(tiles):
+            slot = self.atlas.tile_slot(pattern, colour)
+            if slot is not None:
+                origins[i] = self.atlas.slot_origin(slot)
+        keep = ~np.isnan(origins[which, 0])
+        if not keep.all():
+            faces, which = faces[keep], which[keep]
+        if len(faces) == 0:
+            return texcoords, corner_texcoord
+        # The corners land on texel centres of the tile's outer texels: sampling never
+        # reaches the next tile, with linear filtering either.
+        corners = origins[which][:, None, :] + 0.5 + mesh.face_uv[faces] * (materials.TILE - 1)
+        first = len(texcoords)
+        corner_texcoord = corner_texcoord.copy()
+        corner_texcoord[(faces[:, None] * 3 + np.arange(3)).reshape(-1)] = first + np.arange(3 * len(faces))
+        return np.concatenate([texcoords, corners.reshape(-1, 2)]), corner_texcoord
+
+    def _surface_geom(self, body, mesh: SurfaceMesh, slot: int, *, name: str) -> None:
+        """A floor's or wall's patterned surface on texture ``slot``: its pattern's tile in
+        its colour (styled like the atlas), repeating."""
+        image = styled_palette(materials.tile(mesh.pattern, pattern_variant(mesh.rgb8), mesh.rgb8), self._style)
+        tex = self._surface_textures[slot]
+        tex.width, tex.height = image.shape[1], image.shape[0]
+        tex.data = image.tobytes()
+        m = self.spec.add_mesh(name=f"mesh_{self._mesh_count}")
+        self._mesh_count += 1
+        m.uservert = mesh.vertices.reshape(-1).tolist()
+        m.userface = mesh.faces.reshape(-1).tolist()
+        m.usernormal = mesh.normals.reshape(-1).tolist()
+        m.userfacenormal = _each_thrice(len(mesh.faces))
+        # Part.uv's convention (v up) for a texture whose rows MuJoCo samples top down.
+        m.usertexcoord = np.column_stack([mesh.uv[:, 0], -mesh.uv[:, 1]]).reshape(-1).tolist()
+        m.inertia = mujoco.mjtMeshInertia.mjMESH_INERTIA_SHELL
+        body.add_geom(type=mujoco.mjtGeom.mjGEOM_MESH, meshname=m.name, material=f"{SURFACE_TEXTURE_PREFIX}{slot}",
+                      contype=0, conaffinity=0, group=GROUP_HOUSE, density=0, name=name)
 
     def _plain_geom(self, body, part: Part, *, group: int, name: str) -> None:
         """Naive build: one geom per part with its own colour."""
@@ -370,21 +448,41 @@ class _SpecBuilder:
     def _add_shell(self) -> None:
         scene, wb = self.scene, self.spec.worldbody
         floors, ceilings, walls = (MeshAccumulator() for _ in range(3))
-        room_colour = {r.id: r.wall.rgba for r in scene.rooms}
-        default_wall = scene.rooms[0].wall.rgba
+        # Patterned floors and walls (none in the naive reference build).
+        surfaces = SurfaceAccumulator(0 if self.options.naive else SURFACE_TEXTURE_SLOTS)
+
+        def patterned(kind: str, surface: Surface) -> str | None:
+            pattern = _surface_pattern(surface)
+            return pattern if pattern is not None and surfaces.takes(kind, pattern, surface.rgba) else None
+
+        room_wall = {r.id: r.wall for r in scene.rooms}
+        default_wall = scene.rooms[0].wall
         max_height = max((w.height for w in scene.walls), default=3.0)
         for room in scene.rooms:
             v, f = polygon_surface(room.polygon, 0.0)
-            floors.add(v, f, room.floor.rgba)
+            pattern = patterned("floors", room.floor)
+            if pattern is None:
+                floors.add(v, f, room.floor.rgba)
+            else:
+                surfaces.add("floors", pattern, room.floor.rgba, v, f, v[:, :2] / materials.SURFACE_PERIOD)
             v, f = polygon_surface(room.polygon, max_height, facing_up=False)
             ceilings.add(v, f, (0.95, 0.95, 0.93, 1.0))
         for wall in scene.walls:
             openings = [(d.offset, d.width, 0.0, d.height) for d in scene.doors if d.wall == wall.id]
             openings += [(w.offset, w.width, w.sill, w.sill + w.height) for w in scene.windows if w.wall == wall.id]
-            left, right = self._wall_side_colours(wall, room_colour, default_wall)
+            left, right = self._wall_side_surfaces(wall, room_wall, default_wall)
+            sides = [(faces, patterned("walls", surface), surface)
+                     for faces, surface in ((_LEFT_FACES, left), (_RIGHT_FACES, right))]
+            start, along, _, _ = wall_frame(wall)
             for piece in wall_pieces(wall.length, wall.height, openings):
-                v, f, colours = wall_piece_box(wall.start, wall.end, wall.thickness, piece, left, right)
-                walls.add(v, f, colours)
+                v, f, colours = wall_piece_box(wall.start, wall.end, wall.thickness, piece, left.rgba, right.rgba)
+                flat = np.ones(len(f), dtype=bool)
+                for faces, pattern, surface in sides:
+                    if pattern is not None:
+                        flat[faces] = False
+                        uv = np.column_stack([(v[:, :2] - start) @ along, v[:, 2]]) / materials.SURFACE_PERIOD
+                        surfaces.add("walls", pattern, surface.rgba, v, f[faces], uv)
+                walls.add(v, f[flat], colours[flat])
                 self._wall_collision(wall, piece)
             for door in scene.doors:
                 if door.wall == wall.id and door_leads_outside(wall, door):
@@ -401,7 +499,10 @@ class _SpecBuilder:
                     self._plain_geom(wb, Part(mesh.vertices, mesh.faces, (0.9, 0.88, 0.84, 1.0)),
                                      group=GROUP_HOUSE, name=name)
         else:
-            self._mesh_geom(wb, floors.build(), group=GROUP_HOUSE, name="floors")
+            if not floors.empty():
+                self._mesh_geom(wb, floors.build(), group=GROUP_HOUSE, name="floors")
+            for slot, surface_mesh in enumerate(surfaces.meshes()):
+                self._surface_geom(wb, surface_mesh, slot, name=f"{surface_mesh.kind}_{slot}")
             if not walls.empty():
                 self._mesh_geom(wb, walls.build(), group=GROUP_HOUSE, name="walls")
             if self.options.with_ceiling:
@@ -412,13 +513,13 @@ class _SpecBuilder:
                     size=[(hi_x - lo_x) / 2 + 1.0, (hi_y - lo_y) / 2 + 1.0, FLOOR_THICKNESS / 2],
                     pos=[(lo_x + hi_x) / 2, (lo_y + hi_y) / 2, -FLOOR_THICKNESS / 2])
 
-    def _wall_side_colours(self, wall, room_colour, default):
-        """Which room lies left and right of the wall's direction, and their paint."""
-        rooms = [r for r in wall.rooms if r in room_colour]
+    def _wall_side_surfaces(self, wall, room_wall: Mapping[str, Surface], default: Surface) -> tuple[Surface, Surface]:
+        """Which room lies left and right of the wall's direction, and their walls' surfaces."""
+        rooms = [r for r in wall.rooms if r in room_wall]
         if not rooms:
             return default, default
         if len(rooms) == 1:
-            return room_colour[rooms[0]], room_colour[rooms[0]]
+            return room_wall[rooms[0]], room_wall[rooms[0]]
         # Probe a point just left of the wall's middle and see which room polygon holds it.
         (x0, y0), (x1, y1) = wall.start, wall.end
         _, _, left, _ = wall_frame(wall)
@@ -426,7 +527,7 @@ class _SpecBuilder:
         left_of_wall = points_in_polygon(probe, np.asarray(self.scene.room(rooms[0]).polygon))[0]
         left_room = rooms[0] if left_of_wall else rooms[1]
         right_room = rooms[1] if left_room == rooms[0] else rooms[0]
-        return room_colour[left_room], room_colour[right_room]
+        return room_wall[left_room], room_wall[right_room]
 
     def _wall_collision(self, wall, piece) -> None:
         start, u, _, _ = wall_frame(wall)
@@ -575,6 +676,35 @@ class _SpecBuilder:
                          name=f"light_{i}")
         if daylight:
             self._add_daylight()
+        if self.options.with_ceiling and not self.options.naive:
+            self._add_light_fixtures(lights[:7 if daylight else 8])
+
+    def _add_light_fixtures(self, lights) -> None:
+        """A glowing round ceiling lamp above each light hung under the ceiling (within
+        :data:`FIXTURE_DROP` of it, inside a room), all in one mesh in the ceilings' group
+        (every head camera shows it; no view ray meets it; top-down views leave it out). The
+        lamp is above its light, so it never shades what the light lights."""
+        ceiling = max((w.height for w in self.scene.walls), default=3.0)
+        polygons = [np.asarray(r.polygon, dtype=np.float64) for r in self.scene.rooms]
+        parts = []
+        for light in lights:
+            x, y, z = light.position
+            if light.directional or not 0.0 < ceiling - z <= FIXTURE_DROP:
+                continue
+            if not any(points_in_polygon(np.array([[x, y]]), p)[0] for p in polygons):
+                continue
+            parts.append(cylinder_part((x, y, ceiling - 0.015), 0.08, 0.03, FIXTURE_CANOPY_RGBA, segments=12))
+            parts.append(cylinder_part((x, y, ceiling - 0.07), 0.2, 0.07, FIXTURE_GLOW_RGBA, segments=16,
+                                       radius_top=0.17))
+        if not parts:
+            return
+        acc = MeshAccumulator()
+        for part in parts:
+            acc.add_part(part)
+        material = self.spec.add_material(name="light_fixtures", emission=0.8, specular=0.0, shininess=0.0)
+        material.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = PALETTE_TEXTURE
+        self._mesh_geom(self.spec.worldbody, acc.build(), group=GROUP_CEILING, name="light_fixtures",
+                        material="light_fixtures")
 
     def _add_daylight(self) -> None:
         """A directional light from the sky, slanting in through the windows (its shadows
@@ -589,8 +719,29 @@ class _SpecBuilder:
             castshadow=True, name="daylight")
 
     def _finish_palette(self) -> None:
-        if not self.options.naive:
-            self._palette_texture.data = styled_palette(self.palette.image(), self._style).tobytes()
+        if self.options.naive:
+            return
+        width, height = self.atlas.size()
+        tex = self._palette_texture
+        tex.width, tex.height = width, height
+        tex.data = styled_palette(self.atlas.image(), self._style).tobytes()
+        scale = np.array([width, height], dtype=np.float64)
+        for mesh, texcoords in self._atlas_texcoords:
+            mesh.usertexcoord = (texcoords / scale).reshape(-1).tolist()
+
+
+#: How far below the ceiling a light may hang and still get a lamp drawn above it (metres).
+FIXTURE_DROP = 0.5
+FIXTURE_CANOPY_RGBA = (0.85, 0.85, 0.82, 1.0)
+FIXTURE_GLOW_RGBA = (1.0, 0.96, 0.86, 1.0)
+#: Faces of :func:`wall_piece_box`'s box on each side of the wall (+y is its left).
+_LEFT_FACES, _RIGHT_FACES = np.array([6, 7]), np.array([4, 5])
+
+
+def _surface_pattern(surface: Surface) -> str | None:
+    """The repeating pattern a floor or wall surface is drawn with, or None (flat)."""
+    pattern = materials.surface_pattern(surface.material)
+    return pattern if pattern in SURFACE_TEXTURE_PATTERNS else None
 
 
 @lru_cache(maxsize=1024)
@@ -677,7 +828,7 @@ def build_world(scene: Scene, options: BuildOptions | None = None) -> World:
         root = body_id(who)
         geom_segment[model.body_rootid[model.geom_bodyid] == root] = segment_id
     world = World(scene, model, data, b.assets, object_body, object_joints, door_joint, door_body,
-                  geom_object, geom_door, b.palette, options, free, geom_segment)
+                  geom_object, geom_door, b.atlas, options, free, geom_segment)
     world.set_body_pose("agent", *scene.agent.position, scene.agent.yaw)
     user = scene.user or scene.agent
     world.set_body_pose("user", *user.position, user.yaw)

@@ -354,9 +354,15 @@ def yaw_of(obj: ObjectInstance) -> float:
     return float(obj.rotation[2])
 
 
+#: Static objects resting on nothing whose base is this high (metres) or higher hang on a
+#: wall (a picture): they block no floor.
+HANGING_HEIGHT = 0.5
+
+
 def is_floor_furniture(obj: ObjectInstance) -> bool:
-    """Furniture standing on the floor (static, resting on nothing): what blocks the floor."""
-    return obj.kind == "static" and obj.on is None
+    """Furniture standing on the floor (static, resting on nothing, its base on the floor
+    rather than hung on a wall): what blocks the floor."""
+    return obj.kind == "static" and obj.on is None and obj.position[2] < HANGING_HEIGHT
 
 
 def local_footprint(model: AssetModel) -> np.ndarray:

@@ -1,9 +1,18 @@
-"""Mesh assembly for the builder: palette colouring, flat normals, and the house shell.
+"""Mesh assembly for the builder: palette colouring, patterned faces, flat normals, and
+the house shell.
 
 Why a palette: every draw call costs render time on a CPU renderer, and a MuJoCo geom has
 one colour. We merge all parts of a link (and all walls, all floors) into one mesh and give
 each triangle its colour through texture coordinates into one small shared palette texture
 (one texel per colour). One geom, many colours, one material.
+
+Why an atlas: the faces of wooden, fabric, leather, metal, stone, ceramic and paper parts
+show a seeded procedural pattern (:mod:`legent_gym.world.materials`) in their colour. Each
+(pattern, colour) of a house is one tile of the same texture as the palette (the house's
+:class:`Atlas`), and a patterned face's texture coordinates span its tile. The geoms stay
+as few as before, with one material. Floors and papered or tiled walls repeat their
+pattern every metre, which a tile cannot do: each (pattern, colour) of them is a geom of
+its own on a small texture that repeats (:class:`SurfaceAccumulator`).
 """
 
 from __future__ import annotations
@@ -12,14 +21,21 @@ import math
 import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass, field
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import mapbox_earcut
 import numpy as np
 
+from legent_gym.world import materials
 from legent_gym.world.assets.model import Link, Part, box_part
 
 PALETTE_SIZE = 64  # 64 x 64 texels: 4,096 distinct colours per scene
+#: The object patterns in a fixed order: a face's pattern is an index into it.
+OBJECT_PATTERN_NAMES: tuple[str, ...] = tuple(sorted(materials.OBJECT_PATTERNS))
+_PATTERN_INDEX = {name: i for i, name in enumerate(OBJECT_PATTERN_NAMES)}
+#: Parts whose largest side is shorter than this (metres) are drawn flat: handles, knobs and
+#: small objects show too few pixels for a pattern, and each would take a tile.
+PATTERN_MIN_SIZE = 0.12
 
 
 class Palette:
@@ -60,9 +76,94 @@ class Palette:
         return len(self._index)
 
 
+class Atlas:
+    """The one texture of a house's merged meshes: the :class:`Palette` in its top-left
+    ``PALETTE_SIZE`` square, and after it one ``materials.TILE`` square per (pattern, colour)
+    a patterned face asked for, :data:`WIDTH` texels a row, as many rows as needed (at most
+    :data:`MAX_HEIGHT`; a face asking for a tile of a full atlas is drawn flat)."""
+
+    WIDTH = 256
+    MAX_HEIGHT = 1024
+
+    def __init__(self) -> None:
+        self.palette = Palette()
+        self._slots: dict[tuple[str, tuple[int, int, int]], int] = {}
+        #: Each tile's (pattern, 8-bit colour), in slot order.
+        self.tiles: list[tuple[str, tuple[int, int, int]]] = []
+
+    @staticmethod
+    def slot_origin(slot: int) -> tuple[int, int]:
+        """(x, y) texels of a tile slot's top-left corner: right of the palette in its rows,
+        then whole rows below it."""
+        t = materials.TILE
+        beside = (Atlas.WIDTH - PALETTE_SIZE) // t  # slots in each tile row next to the palette
+        rows_beside = PALETTE_SIZE // t
+        if slot < beside * rows_beside:
+            return PALETTE_SIZE + (slot % beside) * t, (slot // beside) * t
+        slot -= beside * rows_beside
+        per_row = Atlas.WIDTH // t
+        return (slot % per_row) * t, PALETTE_SIZE + (slot // per_row) * t
+
+    def tile_slot(self, pattern: str, rgb8: tuple[int, int, int]) -> int | None:
+        """The slot of the (pattern, colour) tile, added if new; None when the atlas is full."""
+        key = (pattern, rgb8)
+        slot = self._slots.get(key)
+        if slot is None:
+            slot = len(self.tiles)
+            if self.slot_origin(slot)[1] + materials.TILE > self.MAX_HEIGHT:
+                return None
+            self._slots[key] = slot
+            self.tiles.append(key)
+        return slot
+
+    def size(self) -> tuple[int, int]:
+        """(width, height) in texels."""
+        bottom = max([PALETTE_SIZE] + [self.slot_origin(s)[1] + materials.TILE for s in range(len(self.tiles))])
+        return self.WIDTH, bottom
+
+    def palette_texel_origin(self, index: np.ndarray) -> np.ndarray:
+        """(N, 2) texels (x, y) of palette colours' top-left corners."""
+        return _texel_origins(self.palette.size)[index]
+
+    def image(self) -> np.ndarray:
+        """(height, width, 3) uint8: the palette's colours and every tile."""
+        width, height = self.size()
+        img = np.zeros((height, width, 3), dtype=np.uint8)
+        img[:self.palette.size, :self.palette.size] = self.palette.image()
+        t = materials.TILE
+        for slot, (pattern, rgb8) in enumerate(self.tiles):
+            x, y = self.slot_origin(slot)
+            img[y:y + t, x:x + t] = materials.tile(pattern, pattern_variant(rgb8), rgb8)
+        return img
+
+    def tile_boxes(self) -> list[tuple[int, int, tuple[int, int, int]]]:
+        """(x, y, colour) of every tile: what re-colouring shifts with its colour."""
+        return [(*self.slot_origin(slot), rgb8) for slot, (_, rgb8) in enumerate(self.tiles)]
+
+    def __len__(self) -> int:
+        return len(self.palette)
+
+
+@lru_cache(maxsize=4)
+def _texel_origins(size: int) -> np.ndarray:
+    """(size * size, 2) texels (x, y) of each palette colour's top-left corner (read-only)."""
+    index = np.arange(size * size)
+    out = np.stack([index % size, index // size], axis=-1).astype(np.float64)
+    out.flags.writeable = False
+    return out
+
+
+def pattern_variant(rgb8: tuple[int, int, int]) -> int:
+    """Which variant of its pattern a colour shows: fixed by the colour, which the asset's
+    seeded variant chose, so the same object looks the same in every house."""
+    r, g, b = rgb8
+    return (r * 7 + g * 13 + b * 31) % materials.PATTERN_VARIANTS
+
+
 @dataclass(frozen=True)
 class ColouredMesh:
-    """A merged triangle mesh with one 8-bit colour per face (independent of any palette)."""
+    """A merged triangle mesh with one 8-bit colour per face (independent of any palette),
+    and for faces of patterned parts their pattern and texture coordinates within a tile."""
 
     vertices: np.ndarray  # (N, 3)
     faces: np.ndarray  # (M, 3)
@@ -72,10 +173,30 @@ class ColouredMesh:
     #: them: given by :func:`_merged`, which knows them per part; derived when None.
     colour_codes: np.ndarray | None = field(default=None, compare=False, repr=False)
     face_colour: np.ndarray | None = field(default=None, compare=False, repr=False)
+    #: (M,) index into :data:`OBJECT_PATTERN_NAMES` of each face's pattern, -1 for flat
+    #: faces; None when no face has one.
+    face_pattern: np.ndarray | None = field(default=None, compare=False, repr=False)
+    #: (M, 3, 2) each patterned face's corners within its tile, in [0, 1] (u along the
+    #: part's longer side); None with ``face_pattern``.
+    face_uv: np.ndarray | None = field(default=None, compare=False, repr=False)
 
     @property
     def n_faces(self) -> int:
         return len(self.faces)
+
+    @cached_property
+    def tile_keys(self) -> tuple[list[tuple[str, tuple[int, int, int]]], np.ndarray, np.ndarray]:
+        """The distinct (pattern, colour) tiles the patterned faces ask for, those faces, and
+        each one's index into the tiles (computed once per mesh: a link's mesh is made once
+        per asset variant, its tiles' places in each house's atlas differ)."""
+        assert self.face_pattern is not None
+        faces = np.flatnonzero(self.face_pattern >= 0)
+        codes, face_colour = self.colour_table()
+        keys = self.face_pattern[faces].astype(np.int64) << 24 | codes[face_colour[faces]].astype(np.int64)
+        distinct, which = np.unique(keys, return_inverse=True)
+        tiles = [(OBJECT_PATTERN_NAMES[k >> 24], ((k >> 16) & 255, (k >> 8) & 255, k & 255))
+                 for k in distinct.tolist()]
+        return tiles, faces, which.reshape(-1)
 
     def colour_table(self) -> tuple[np.ndarray, np.ndarray]:
         """(distinct colour codes ascending, (M,) each face's index into them)."""
@@ -169,6 +290,58 @@ class MeshAccumulator:
         v = np.concatenate(self._verts)
         f = np.concatenate(self._faces)
         return ColouredMesh(v, f, face_normals(v, f), np.concatenate(self._colours))
+
+
+@dataclass(frozen=True)
+class SurfaceMesh:
+    """Floor or wall triangles of one patterned surface: its texture repeats, each vertex's
+    (u, v) is its position on the surface in periods of the pattern."""
+
+    kind: str  # "floors" or "walls"
+    pattern: str
+    rgb8: tuple[int, int, int]
+    vertices: np.ndarray  # (N, 3)
+    faces: np.ndarray  # (M, 3)
+    normals: np.ndarray  # (M, 3)
+    uv: np.ndarray  # (N, 2)
+
+
+class SurfaceAccumulator:
+    """Collects patterned floor and wall triangles, one :class:`SurfaceMesh` per (kind,
+    pattern, colour), for at most ``capacity`` of them: each is one geom on a repeating
+    texture of its pattern in its colour."""
+
+    def __init__(self, capacity: int) -> None:
+        self.capacity = capacity
+        self._groups: dict[tuple[str, str, tuple[int, int, int]], MeshAccumulator] = {}
+        self._uvs: dict[tuple[str, str, tuple[int, int, int]], list[np.ndarray]] = {}
+
+    @staticmethod
+    def _key(kind: str, pattern: str, rgba: Sequence[float]) -> tuple[str, str, tuple[int, int, int]]:
+        r, g, b = (int(c) for c in to_rgb8(rgba))
+        return kind, pattern, (r, g, b)
+
+    def takes(self, kind: str, pattern: str, rgba: Sequence[float]) -> bool:
+        """Whether a surface of this kind ("floors" or "walls"), pattern and colour can be
+        added (it is one already added, or there is room for one more)."""
+        return self._key(kind, pattern, rgba) in self._groups or len(self._groups) < self.capacity
+
+    def add(self, kind: str, pattern: str, rgba: Sequence[float], vertices: np.ndarray, faces: np.ndarray,
+            uv: np.ndarray) -> None:
+        key = self._key(kind, pattern, rgba)
+        acc = self._groups.get(key)
+        if acc is None:
+            acc = self._groups[key] = MeshAccumulator()
+            self._uvs[key] = []
+        acc.add(vertices, faces, tuple(rgba))
+        self._uvs[key].append(np.asarray(uv, dtype=np.float64))
+
+    def meshes(self) -> list[SurfaceMesh]:
+        out = []
+        for key, acc in self._groups.items():
+            mesh = acc.build()
+            out.append(SurfaceMesh(*key, mesh.vertices, mesh.faces, mesh.normals, np.concatenate(self._uvs[key])))
+        return out
 
 
 @dataclass(frozen=True)
@@ -313,6 +486,7 @@ def _merged_many(groups: list[list[Part]]) -> list[ColouredMesh]:
     rgb = np.repeat(part_rgb, n_faces, axis=0)
     packed = _packed(part_rgb)
     part_codes = packed.tolist()
+    face_pattern, face_uv = _patterns(parts, v, shared, normals, starts, n_faces)
     out, k, f0 = [], 0, 0
     for group in groups:
         nf = sum(n_faces[k:k + len(group)])
@@ -324,11 +498,45 @@ def _merged_many(groups: list[list[Part]]) -> list[ColouredMesh]:
         position = {code: i for i, code in enumerate(distinct)}
         codes = np.array(distinct, dtype=packed.dtype)
         part_colour = np.array([position[code] for code in mine], dtype=np.intp)
+        mine_pattern = mine_uv = None
+        if face_pattern is not None and face_uv is not None and (face_pattern[f0:f0 + nf] >= 0).any():
+            mine_pattern, mine_uv = face_pattern[f0:f0 + nf], face_uv[f0:f0 + nf]
         out.append(ColouredMesh(v[v0:v1], local[f0:f0 + nf], normals[f0:f0 + nf], rgb[f0:f0 + nf], codes,
-                                np.repeat(part_colour, n_faces[k:k + len(group)])))
+                                np.repeat(part_colour, n_faces[k:k + len(group)]), mine_pattern, mine_uv))
         k += len(group)
         f0 += nf
     return out
+
+
+def _patterns(parts: list[Part], v: np.ndarray, faces: np.ndarray, normals: np.ndarray, starts: np.ndarray,
+              n_faces: list[int]) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """Each face's pattern (or -1) and its corners' (u, v) within a tile, for all parts at
+    once: a face is projected along its normal's largest axis onto its part's bounding box,
+    u along the longer of the two sides left (wood grain along a board), so that each face
+    of a box shows the whole tile. None, None when no part is patterned."""
+    part_pattern = np.array([_PATTERN_INDEX.get(p.material, -1) for p in parts], dtype=np.int8)
+    if not (part_pattern >= 0).any():
+        return None, None
+    lo, hi = np.minimum.reduceat(v, starts), np.maximum.reduceat(v, starts)
+    extent = hi - lo
+    part_pattern[extent.max(axis=1) < PATTERN_MIN_SIZE] = -1
+    face_pattern = np.repeat(part_pattern, n_faces)
+    patterned = np.flatnonzero(face_pattern >= 0)
+    face_uv = np.zeros((len(faces), 3, 2), dtype=np.float32)
+    if len(patterned) == 0:
+        return None, None
+    face_part = np.repeat(np.arange(len(parts)), n_faces)[patterned]
+    axis = np.abs(normals[patterned]).argmax(axis=1)
+    across = np.stack([np.array([1, 0, 0])[axis], np.array([2, 2, 1])[axis]], axis=1)  # (F, 2)
+    rows = np.arange(len(patterned))[:, None]
+    corners = v[faces[patterned]]  # (F, 3, 3)
+    size = np.maximum(extent[face_part][rows, across], 1e-9)  # (F, 2)
+    start = lo[face_part][rows, across]
+    uv = (np.take_along_axis(corners, across[:, None, :], axis=2) - start[:, None, :]) / size[:, None, :]
+    longer_second = size[:, 1] > size[:, 0]
+    uv[longer_second] = uv[longer_second][..., ::-1]
+    face_uv[patterned] = np.clip(uv, 0.0, 1.0)
+    return face_pattern, face_uv
 
 
 # ---------------------------------------------------------------------------------------

@@ -10,7 +10,8 @@ Speed on a CPU (Mesa llvmpipe through EGL) comes from six choices, measured in
   for making and three for freeing them);
 * the ``fast`` profile: no shadows, reflections or multisampling, and an offscreen buffer
   the size of the image;
-* the builder's merged, palette-coloured meshes (few draw calls, few triangles);
+* the builder's merged meshes coloured through one atlas texture (few draw calls, few
+  triangles), sampled at the nearest texel;
 * the renderer is created lazily, on the first frame, so that environments can be
   pickled and forked before any OpenGL exists;
 * a frame sets only what changed since the last one: the context is made current, the
@@ -42,6 +43,7 @@ from legent_gym.world.builder import (
     GROUP_COLLISION,
     GROUP_USER,
     PALETTE_TEXTURE,
+    SURFACE_TEXTURE_PREFIX,
     World,
 )
 from legent_gym.world.culling import FrustumCull
@@ -194,23 +196,32 @@ def _retargeting(context: mujoco.MjrContext, model: mujoco.MjModel) -> Iterator[
         mujoco.mjr_uploadMesh(model, context, i)
 
 
-def _sample_palette_nearest(context: mujoco.MjrContext, model: mujoco.MjModel) -> None:
-    """Sample the palette texture at its nearest texel, not trilinearly from mipmaps.
+def set_texture_filters(context: mujoco.MjrContext, model: mujoco.MjModel, profile: Profile) -> None:
+    """Sample the atlas at its nearest texel, not trilinearly from mipmaps; in the "fast"
+    profile the patterned floors' and walls' textures too.
 
-    Every face of a palette-coloured mesh has its texture coordinates at the centre of its
-    colour's texel, so the nearest texel is the colour itself: the same pixels (where a
-    mipmap of a far face blends neighbouring colours, the face's own colour instead) for
-    less work per fragment, which llvmpipe pays for on the CPU (about a tenth of a 96 px
-    frame). MuJoCo sets trilinear filtering when it uploads a texture, so this runs after
-    every upload."""
-    palette = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_TEXTURE, PALETTE_TEXTURE)
-    if palette < 0:
-        return
+    Every flat face of a merged mesh has its texture coordinates at the centre of its
+    colour's texel, and a patterned face's corners at texel centres inside its tile, so the
+    nearest texel is the colour itself and a tile is never blended with its neighbours (a
+    mipmap of a far face blends neighbouring colours and tiles). Nearest texels cost less
+    work per fragment, which llvmpipe pays for on the CPU (about a tenth of a 96 px frame).
+    "pretty" samples the atlas linearly (within a tile: its corners keep half a texel in)
+    and the floors and walls trilinearly. MuJoCo sets trilinear filtering when it uploads
+    a texture, so this runs after every upload."""
     from OpenGL import GL  # after the backend is chosen (legent_gym.utils.gl_backend)
 
-    GL.glBindTexture(GL.GL_TEXTURE_2D, int(context.texture[palette]))
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MIN_FILTER, GL.GL_NEAREST)
-    GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MAG_FILTER, GL.GL_NEAREST)
+    nearest = profile == "fast"
+    for tid in range(model.ntex):
+        name = model.texture(tid).name
+        if name == PALETTE_TEXTURE:
+            mode = GL.GL_NEAREST if nearest else GL.GL_LINEAR
+        elif name.startswith(SURFACE_TEXTURE_PREFIX) and nearest:
+            mode = GL.GL_NEAREST
+        else:
+            continue
+        GL.glBindTexture(GL.GL_TEXTURE_2D, int(context.texture[tid]))
+        GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MIN_FILTER, mode)
+        GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MAG_FILTER, mode)
 
 
 def _scene_size(model: mujoco.MjModel) -> int:
@@ -346,7 +357,7 @@ class Renderer:
                 yield
                 _shared_gl_context(self.width, self.height)
         self._context.readDepthMap = mujoco.mjtDepthMap.mjDEPTH_ZEROFAR
-        _sample_palette_nearest(self._context, model)
+        set_texture_filters(self._context, model, self.profile)
         self._segmented = False  # a new (or reset) scene has the default flags
         fast = self.profile == "fast"
         flags = self._made_scene().flags
@@ -392,7 +403,7 @@ class Renderer:
         _shared_gl_context(self.width, self.height)
         for tid in range(self.world.model.ntex):
             mujoco.mjr_uploadTexture(self.world.model, self._context, tid)
-        _sample_palette_nearest(self._context, self.world.model)
+        set_texture_filters(self._context, self.world.model, self.profile)
 
     # -- cameras -------------------------------------------------------------------------
     def _setup_camera(self, camera: CameraSpec) -> None:

@@ -213,8 +213,9 @@ class ImportedAsset(_Model):
     mass: Positive | None = None
     yaw: int = Field(default=0, description="Quarter turn about z after the import, degrees (0, 90, 180, 270): "
                                             "an annotation's turn that makes the front face +y.")
-    placement: Literal["wall", "corner", "middle", "surface"] | None = Field(
-        default=None, description="Where generators put it: against a wall, in a corner, in the middle, on a surface.")
+    placement: Literal["wall", "corner", "middle", "surface", "hanging"] | None = Field(
+        default=None, description="Where generators put it: against a wall, in a corner, in the middle, on a "
+                                  "surface, hanging on a wall.")
     receptacles: list[ImportedSurface] | None = Field(
         default=None, max_length=MAX_RECEPTACLES,
         description="Placeable surfaces (none: not a receptacle); absent: the importer finds its top.")

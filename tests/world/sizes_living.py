@@ -16,10 +16,14 @@ SIZES: dict[str, tuple[tuple[float, float, float], tuple[float, float, float]]] 
     "piano": ((1.42, 0.55, 1.0), (1.58, 0.67, 1.33)),
     "chest": ((0.7, 0.4, 0.42), (1.26, 0.66, 0.61)),
 }
-#: Moving links: the joint kind ("hinge" or "slide") of each articulated asset.
-ARTICULATED: dict[str, str] = {"filing_cabinet": "slide", "storage_cabinet": "hinge"}
+#: Moving links: the joint kind ("hinge" or "slide") of each articulated asset, or the kinds
+#: of one whose variants have both (each kind on some of them).
+ARTICULATED: dict[str, str | tuple[str, ...]] = {"filing_cabinet": "slide", "storage_cabinet": "hinge",
+                                                 "sideboard": ("hinge", "slide")}
+#: Articulated assets some of whose variants have nothing that moves.
+SOMETIMES_STATIC: set[str] = set()
 #: Assets that must offer a place to put things: how many receptacles at least.
 EXPECTED_RECEPTACLES: dict[str, int] = {
     "ottoman": 1, "bench": 1, "stool": 1, "filing_cabinet": 3, "storage_cabinet": 2, "shoe_rack": 2,
-    "sideboard": 1, "console_table": 1, "piano": 1, "chest": 1,
+    "sideboard": 2, "console_table": 1, "piano": 1, "chest": 1,
 }

@@ -22,9 +22,17 @@ from legent_gym.world.generation import (
     generate_house,
     parse_rooms,
 )
-from legent_gym.world.generation.furnish import ROOM_SURFACE_PIECES, SUPPORTS
+from legent_gym.world.generation.floorplan import WALL_THICKNESS
+from legent_gym.world.generation.furnish import (
+    HANG_ABOVE_FURNITURE,
+    HANG_BELOW_CEILING,
+    HANG_CENTRE,
+    ROOM_SURFACE_PIECES,
+    SUPPORTS,
+)
+from legent_gym.world.generation.small_objects import open_receptacle
 from legent_gym.world.generation.validate import find_receptacle
-from legent_gym.world.geometry import object_footprint, polygon_signed_area
+from legent_gym.world.geometry import HANGING_HEIGHT, object_footprint, polygon_signed_area
 from legent_gym.world.navigation import NavGrid
 from legent_gym.world.scene import ObjectInstance, validate_scene
 
@@ -150,7 +158,8 @@ def _check_structure(scene) -> None:
         if model.pickupable:
             assert o.kind == "interactable" and o.on is not None
         elif o.on is None:
-            assert o.kind == "static" and o.position[2] == 0.0 and o.rotation[2] % 90 == 0
+            hangs = model.placement == "hanging" and o.position[2] >= HANGING_HEIGHT
+            assert o.kind == "static" and (o.position[2] == 0.0 or hangs) and o.rotation[2] % 90 == 0
         else:
             assert category(scene.object(o.on)) in SUPPORTS[category(o)]
     # Style and lights.
@@ -171,6 +180,22 @@ def test_small_objects_at_most_three_per_surface_and_inside_receptacles():
             rel = (o.rotation[2] - scene.object(o.on).rotation[2] + 180) % 360 - 180
             assert abs(rel) <= 15.0 + 1e-6
         assert check_house(scene) == []  # includes "inside a receptacle" and no overlap
+
+
+def test_surfaces_behind_closed_doors_get_no_small_objects():
+    """open_receptacle: a surface is open unless closed doors span its width (or it lies in
+    a drawer); a tv stand's middle shelf stays open between two sides with doors."""
+    seen = set()
+    for asset in ("tv_stand", "kitchen_counter", "sideboard", "desk", "fridge", "storage_cabinet"):
+        for v in range(30):
+            m = registry.make(asset, v)
+            doors = any(lk.joint is not None and lk.joint.kind == "hinge" for lk in m.links)
+            for r in m.receptacles:
+                expected = r.link == "base" and (r.name in ("top", "shelf") or not doors)
+                assert open_receptacle(m, r) == expected, (asset, v, r.name)
+                seen.add((asset, r.name, expected))
+    assert {("tv_stand", "shelf", True), ("tv_stand", "shelf_left", False), ("kitchen_counter", "shelf_0", False),
+            ("kitchen_counter", "top", True), ("sideboard", "shelf_0", False)} <= seen
 
 
 def test_density_and_max_per_surface_conditions():
@@ -395,3 +420,61 @@ def test_kitchen_counters_hold_appliances():
         assert len({o.on for o in on_counters}) == len(on_counters)
         standing += on_counters
     assert {registry.describe(o.asset).category for o in standing} == ROOM_SURFACE_PIECES_KITCHEN
+
+
+def test_pictures_hang_on_free_walls_above_the_furniture():
+    """WALL_DECOR: pictures hang with their backs on a wall, at eye level or above what stands
+    in front of them, below the ceiling, clear of windows and doors; they block no floor (the
+    navigation grid is the same without them) and every house is still valid."""
+    hung = 0
+    for seed in range(8):
+        scene = generate_house(seed, "FourRoom")
+        pictures = [o for o in scene.objects if o.asset == "wall_picture"]
+        hung += len(pictures)
+        ceiling = max(w.height for w in scene.walls)
+        others = [o for o in scene.objects if o.asset != "wall_picture"]
+        without = scene.model_copy(update={"objects": others})
+        assert np.array_equal(NavGrid.from_scene(scene).walkable, NavGrid.from_scene(without).walkable)
+        for pic in pictures:
+            size = registry.make(pic.asset, pic.variant).size
+            assert pic.position[2] >= HANGING_HEIGHT and pic.position[2] + size[2] <= ceiling - HANG_BELOW_CEILING + 1e-4
+            assert pic.position[2] + size[2] / 2 >= HANG_CENTRE - 1e-4  # (positions rounded to 0.1 mm)
+            foot = object_footprint(scene, pic)
+            room = np.asarray(scene.room(pic.room).polygon)
+            # The back lies on the room's wall face (half a wall in from its outline).
+            gaps = [_distance_to_outline(corner, room) for corner in foot]
+            assert min(gaps) < WALL_THICKNESS / 2 + 0.02
+            for opening in [*scene.doors, *scene.windows]:
+                assert not _overlaps_opening(scene, foot, opening), f"seed {seed}: {pic.id} over {opening.id}"
+            for obj in others:
+                if obj.on is None and obj.room == pic.room and obj.kind == "static":
+                    top = obj.position[2] + registry.make(obj.asset, obj.variant).size[2]
+                    other = object_footprint(scene, obj)
+                    if _boxes_overlap(foot, other, 0.05):
+                        assert pic.position[2] >= top + HANG_ABOVE_FURNITURE - 1e-4
+        assert not check_house(scene)
+    assert hung >= 16  # most rooms of most houses have pictures
+
+
+def _distance_to_outline(point, polygon) -> float:
+    a, b = polygon, np.roll(polygon, -1, axis=0)
+    ab = b - a
+    t = np.clip(((point - a) * ab).sum(axis=1) / (ab * ab).sum(axis=1), 0, 1)
+    return float(np.hypot(*(a + t[:, None] * ab - point).T).min())
+
+
+def _boxes_overlap(a, b, grow: float) -> bool:
+    (ax0, ay0), (ax1, ay1) = np.min(a, axis=0) - grow, np.max(a, axis=0) + grow
+    (bx0, by0), (bx1, by1) = np.min(b, axis=0), np.max(b, axis=0)
+    return ax0 < bx1 and bx0 < ax1 and ay0 < by1 and by0 < ay1
+
+
+def _overlaps_opening(scene, foot, opening) -> bool:
+    """Whether a footprint lies over a door or window: near its wall and within its span."""
+    wall = scene.wall(opening.wall)
+    start, end = np.asarray(wall.start), np.asarray(wall.end)
+    u = (end - start) / np.hypot(*(end - start))
+    along = (np.asarray(foot) - start) @ u
+    across = np.abs((np.asarray(foot) - start) @ np.array([-u[1], u[0]]))
+    lo, hi = opening.offset - opening.width / 2, opening.offset + opening.width / 2
+    return bool(across.min() < wall.thickness and along.max() > lo and along.min() < hi)

@@ -56,7 +56,7 @@ def test_goal_view_follows_the_camera():
         assert (before["bearing"] - turn - after["bearing"] + 180) % 360 - 180 == pytest.approx(0, abs=0.02)
         assert after["distance"] == pytest.approx(before["distance"], abs=1e-3)
         assert after["visible"] == oracle.is_visible(oracle.goal.target)
-    _, info = env.reset(seed=2)  # a house whose object is out of view at first
+    _, info = env.reset(seed=3)  # a house whose object is out of view at first
     seen = []
     while not info["expert_action"].startswith("speak("):
         seen.append(info["goal_view"]["visible"])

@@ -19,7 +19,9 @@ from typing import Literal
 
 import numpy as np
 
-Placement = Literal["wall", "corner", "middle", "surface"]
+#: Where generators put an asset: against a wall, in a corner, in the middle of a room, on a
+#: surface, or hanging on a wall above the floor (a picture: it blocks no floor).
+Placement = Literal["wall", "corner", "middle", "surface", "hanging"]
 #: A part's collision shape (see :attr:`Part.collision`).
 Collision = Literal["box", "hull", "none"]
 

@@ -33,6 +33,7 @@ from legent_gym.world.generation.conditions import Catalog
 from legent_gym.world.generation.floorplan import WALL_THICKNESS, FloorPlan
 from legent_gym.world.generation.roomtypes import ROOM_TYPES
 from legent_gym.world.geometry import (
+    HANGING_HEIGHT,
     QUARTER_TURNS,
     bounding_box,
     door_keepout_squares,
@@ -156,6 +157,18 @@ ROOM_FURNITURE: dict[str, tuple[list[Rule], list[Rule]]] = {
 ROOM_SURFACE_PIECES: dict[str, list[Rule]] = {
     "kitchen": [Rule("microwave", 0.6), Rule("coffee_machine", 0.4), Rule("toaster", 0.3)],
 }
+#: Per room type: the probability that it has pictures on its walls, and how many then.
+WALL_DECOR: dict[str, tuple[float, tuple[int, int]]] = {
+    "living_room": (0.85, (1, 3)), "bedroom": (0.75, (1, 2)), "dining_room": (0.75, (1, 2)),
+    "office": (0.6, (1, 2)), "hallway": (0.5, (1, 2)), "kitchen": (0.25, (1, 1)),
+}
+#: A hung picture's centre (metres above the floor, at a standing person's eye level), its
+#: least clearance above the furniture under it and below the ceiling, and its least
+#: distance from a window, a door, an open door leaf and another picture.
+HANG_CENTRE = 1.5
+HANG_ABOVE_FURNITURE = 0.15
+HANG_BELOW_CEILING = 0.2
+HANG_APART = 0.25
 #: The probability that a desk's chair is an office chair (where there is one), per room type.
 OFFICE_CHAIR_P = {"office": 0.6}
 OFFICE_CHAIR_P_ELSEWHERE = 0.3
@@ -227,7 +240,8 @@ class Placed:
 
     @property
     def on_floor(self) -> bool:
-        return self.support is None
+        """Standing on the floor: neither on another piece nor hung on a wall."""
+        return self.support is None and self.z < HANGING_HEIGHT
 
 
 @dataclass
@@ -595,6 +609,8 @@ class Furnisher:
     def place(self, space: RoomSpace, category: str, *, group: str | None = None,
               required: bool = False, tries: int = 3) -> bool:
         """Place one piece (with its group) in a room; False if it does not fit."""
+        if self.catalog.describe(category).placement == "hanging":
+            return any(self.hang(space, category) for _ in range(tries))
         for _ in range(tries):
             asset, variant, model = self.pick(category)
             variants = self.group_variants(group, model, space.rtype) if group else [[]]
@@ -623,6 +639,59 @@ class Furnisher:
                 return True
             self._rollback(space, len(placed))
         return False
+
+    def hang(self, space: RoomSpace, category: str) -> bool:
+        """Hang one piece (a picture) on a free stretch of the room's walls: clear of
+        windows, doors, open door leaves and other hung pieces, at eye level or higher
+        above the furniture in front of it, below the ceiling. It blocks no floor, so the
+        room's reach check does not see it. False if no stretch has room."""
+        asset, variant, model = self.pick(category)
+        local = local_footprint(model)
+        height = float(model.size[2])
+        edges = space.edges()
+        p0, e, n, q = space.edge_arrays()
+        s_min = HANG_APART - local[0]
+        fits = [k for k, edge in enumerate(edges) if edge[3] - HANG_APART - local[2] > s_min]
+        if not fits:
+            return False
+        along = self.rng.uniform(s_min, np.array([edges[k][3] - HANG_APART - local[2] for k in fits])[:, None],
+                                 (len(fits), 4)).reshape(-1)
+        rows = np.repeat(np.array(fits), 4)
+        # The back 5 mm off the wall face (the inner outline).
+        o = p0[rows] + e[rows] * along[:, None] + n[rows] * (0.005 - local[1])
+        qs = q[rows].astype(np.int64)
+        rects = self._member_rects([Member(category, asset, variant, model, 0.0, 0.0, 0)], o[:, 0], o[:, 1], qs)[0][:, 0]
+        apart = expand(rects, HANG_APART)
+        keep = rects_in_polygon(rects, space.inner)
+        blocked = [space.keepouts, space.windows[:, :4].reshape(-1, 4)]
+        blocked += [np.array([[min(h[0], t[0]), min(h[1], t[1]), max(h[0], t[0]), max(h[1], t[1])]])
+                    for h, t in space.leaves]
+        hung = [self.pieces[k] for k in space.pieces if self.pieces[k].support is None and not self.pieces[k].on_floor]
+        if hung:
+            blocked.append(np.array([p.rect for p in hung]))
+        keep &= ~overlap_matrix(apart, np.concatenate(blocked)).any(axis=1)
+        ceiling = max((w.height for w in self.fp.walls), default=3.0)
+        floor_pieces = [self.pieces[k] for k in space.pieces if self.pieces[k].on_floor]
+        under = np.zeros(len(rects))
+        if floor_pieces:
+            # What stands in front of the stretch of wall (its footprint reaching within 10 cm
+            # of the wall): the picture hangs above the tallest of it.
+            near = overlap_matrix(expand(rects, 0.1), np.array([p.rect for p in floor_pieces]))
+            tops = np.array([p.z + p.height for p in floor_pieces])
+            under = np.where(near, tops[None, :], 0.0).max(axis=1)
+        bottom = np.maximum(HANG_CENTRE - height / 2, under + HANG_ABOVE_FURNITURE)
+        keep &= bottom + height <= ceiling - HANG_BELOW_CEILING
+        idx = np.flatnonzero(keep)
+        if len(idx) == 0:
+            return False
+        c = int(idx[int(self.rng.integers(len(idx)))])
+        self._group += 1
+        self.pieces.append(Placed(category, asset, variant, float(o[c, 0]), float(o[c, 1]), int(qs[c]), model,
+                                  space.index, self._group, rects[c].copy(), None, z=round(float(bottom[c]), 4)))
+        space.pieces.append(len(self.pieces) - 1)
+        if category in self.caps:
+            self.caps[category] -= 1
+        return True
 
     # -- single pieces, for other placers (the plan solver) -----------------------------
     def footprints(self, category: str, asset: str, variant: int, model: AssetModel, xs: np.ndarray,
@@ -929,7 +998,7 @@ def _extra_rules(catalog: Catalog, rtype: str) -> list[Rule]:
         if cat in known or not catalog.is_furniture(cat):
             continue
         model = catalog.describe(cat)
-        if model.placement != "surface" and rtype in model.rooms:
+        if model.placement not in ("surface", "hanging") and rtype in model.rooms:
             out.append(Rule(cat, EXTRA_CATEGORY_P))
     return out
 
@@ -963,4 +1032,11 @@ def furnish_house(fp: FloorPlan, catalog: Catalog, rng: np.random.Generator, *,
         for rule in ROOM_SURFACE_PIECES.get(space.rtype, []):
             if f.available(rule.category) and rng.random() < rule.p:
                 f.put_on_free_support(space, rule.category)
+    if f.available("wall_picture"):
+        for space in f.spaces:
+            p, (lo, hi) = WALL_DECOR.get(space.rtype, (0.0, (0, 0)))
+            if rng.random() < p:
+                for _ in range(int(rng.integers(lo, hi + 1))):
+                    if f.available("wall_picture"):
+                        f.hang(space, "wall_picture")
     return f

@@ -67,8 +67,9 @@ from legent_gym.world.scene import ObjectInstance, Room, Scene, Spawn
 #: made from seeds keys them by it. 2: 50 pickupable kinds (33 more: kitchenware, decor,
 #: office and bathroom things) on the surfaces that plausibly hold them. 3: 105 asset types
 #: (34 more pieces of furniture, appliances and fixtures) furnishing rooms by type, and
-#: appliances on kitchen counters.
-GENERATOR_VERSION = 3
+#: appliances on kitchen counters. 4: pictures hung on walls (``WALL_DECOR``), and doors and
+#: drawers that open on kitchen counters, desks, sideboards and tv stands.
+GENERATOR_VERSION = 4
 #: Extra clearance (beyond the agent radius) preferred around spawn points, metres.
 SPAWN_CLEARANCE = 0.15
 #: How far the agent reaches from where it stands (the validity check's reach).

@@ -117,12 +117,30 @@ class SmallPlaced:
 
 def open_receptacle(model, rec: Receptacle) -> bool:
     """A receptacle one can put things on without opening anything: on the base link (a
-    drawer's inside moves with the drawer), and not behind a hinged door (a fridge's
-    shelves) unless it is the top."""
+    drawer's inside moves with the drawer), and not behind hinged doors (a fridge's shelves)
+    unless it is the top. Behind doors: the closed doors span its whole width (a tv stand's
+    open middle shelf between two closed sides is open). The doors' height is not looked at,
+    so a surface right above doors (a vanity's counter and basin) counts as behind them, as
+    it did when any door closed every surface but the top."""
     if rec.link != "base":
         return False
-    has_doors = any(link.joint is not None and link.joint.kind == "hinge" for link in model.links)
-    return not has_doors or rec.height >= float(model.size[2]) - 0.05
+    if rec.height >= float(model.size[2]) - 0.05:
+        return True
+    spans = sorted(_closed_x_span(link) for link in model.links
+                   if link.joint is not None and link.joint.kind == "hinge")
+    x, reach = rec.center[0] - rec.half_size[0], rec.center[0] + rec.half_size[0]
+    for a, b in spans:  # sweep the doors' union (gaps of 2 cm bridged) from the left edge
+        if a - 0.01 > x:
+            break
+        x = max(x, b + 0.01)
+    return x < reach
+
+
+def _closed_x_span(link) -> tuple[float, float]:
+    """The x extent of a link in its model's frame, at joint value 0."""
+    x0 = min(float(p.vertices[:, 0].min()) for p in link.parts) + float(link.pos[0])
+    x1 = max(float(p.vertices[:, 0].max()) for p in link.parts) + float(link.pos[0])
+    return x0, x1
 
 
 def surfaces_of(pieces: list[Placed]) -> list[Surface]:

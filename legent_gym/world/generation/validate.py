@@ -232,7 +232,8 @@ def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, s
 
 def check_inside_house(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
     polys = [np.asarray(r.polygon) for r in scene.rooms]
-    floor = [obj for obj in scene.objects if is_floor_furniture(obj) and obj.id in feet]
+    # Floor furniture and what hangs on walls (static, resting on nothing).
+    floor = [obj for obj in scene.objects if obj.kind == "static" and obj.on is None and obj.id in feet]
     if not floor:
         return []
     # Every footprint's corners, drawn a little in, tested against each room at once.

@@ -9,4 +9,5 @@ from legent_gym.world.assets.library import (  # noqa: F401
     living,
     objects,
     office_bath,
+    wall_decor,
 )

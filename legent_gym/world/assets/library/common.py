@@ -375,49 +375,65 @@ Handle = Callable[[float, float, float, float], list[Part]]
 def hinged_door(name: str, x0: float, x1: float, y_front: float, z0: float, z1: float, *, hinge_left: bool,
                 rgba: RGBA, material: str, handle: Handle, thickness: float = 0.02,
                 handle_z: float | None = None, handle_inset: float = 0.05, glass: RGBA | None = None,
-                panel: RGBA | None = None) -> Link:
-    """A door covering x0..x1, z0..z1 in front of the plane ``y_front``, hinged on one vertical
-    edge, with the ``handle`` parts ``handle_inset`` in from its free edge at ``handle_z`` (by
-    default half way up).
+                panel: RGBA | None = None, hinge_at_front: bool = False) -> Link:
+    """A door covering x0..x1, z0..z1 in front of the plane ``y_front`` (with ``hinge_at_front``,
+    behind it: its front face in that plane), hinged on one vertical edge, with the ``handle``
+    parts ``handle_inset`` in from its free edge at ``handle_z`` (by default half way up).
 
     The door is a slab; with ``glass``, a frame of four stiles and rails round a pane of that
     colour; with ``panel``, a slab with a raised centre panel of that colour (a shaker door).
     The link origin is on the hinge axis; the left-hinged door turns about +z and the
     right-hinged one about -z, so both open toward +y with positive joint values.
+
+    The axis runs along the door's back edge, or with ``hinge_at_front`` along its front edge:
+    such a door never sweeps past the line of its hinge edge, so it may hang a few millimetres
+    from a neighbour's edge (a row of doors).
     """
     width, t = x1 - x0, thickness
+    y0 = -t if hinge_at_front else 0.0  # the door's back face in the link frame
     xa, xb = (0.0, width) if hinge_left else (-width, 0.0)
     free = width - handle_inset if hinge_left else -width + handle_inset
     if glass is None:
-        parts = [block((xa, 0.0, z0), (xb, t, z1), rgba, material)]
+        parts = [block((xa, y0, z0), (xb, y0 + t, z1), rgba, material)]
     else:
         f = min(0.07, 0.2 * width)
-        parts = [block((xa, 0.0, z0), (xa + f, t, z1), rgba, material),
-                 block((xb - f, 0.0, z0), (xb, t, z1), rgba, material),
-                 block((xa + f, 0.0, z0), (xb - f, t, z0 + f), rgba, material),
-                 block((xa + f, 0.0, z1 - f), (xb - f, t, z1), rgba, material),
-                 block((xa + f, 0.3 * t, z0 + f), (xb - f, 0.6 * t, z1 - f), glass, "glass")]
+        parts = [block((xa, y0, z0), (xa + f, y0 + t, z1), rgba, material),
+                 block((xb - f, y0, z0), (xb, y0 + t, z1), rgba, material),
+                 block((xa + f, y0, z0), (xb - f, y0 + t, z0 + f), rgba, material),
+                 block((xa + f, y0, z1 - f), (xb - f, y0 + t, z1), rgba, material),
+                 block((xa + f, y0 + 0.3 * t, z0 + f), (xb - f, y0 + 0.6 * t, z1 - f), glass, "glass")]
     if panel is not None:
         m = min(0.07, 0.15 * width)
-        parts.append(block((xa + m, t, z0 + m), (xb - m, t + 0.006, z1 - m), panel, material, collision="none"))
-    parts += handle(free, t, (z0 + z1) / 2 if handle_z is None else handle_z, z1 - z0)
+        parts.append(block((xa + m, y0 + t, z0 + m), (xb - m, y0 + t + 0.006, z1 - m), panel, material,
+                           collision="none"))
+    parts += handle(free, y0 + t, (z0 + z1) / 2 if handle_z is None else handle_z, z1 - z0)
     pos = (x0 if hinge_left else x1, y_front, 0.0)
     axis = (0.0, 0.0, 1.0) if hinge_left else (0.0, 0.0, -1.0)
     return Link(name, parts, pos, Joint("hinge", axis, DOOR_RANGE))
 
 
+def door_hinges(n: int) -> list[bool]:
+    """Which of ``n`` doors side by side (left to right) hinge on their left edge: the left
+    half and a middle one, so that no two hinges meet at one seam (two doors hinged there
+    would swing into each other)."""
+    return [i < (n + 1) // 2 for i in range(n)]
+
+
 def drawer(name: str, x0: float, x1: float, y_front: float, depth: float, z0: float, z1: float, *,
-           front: RGBA, body: RGBA, material: str, handle: Handle, handle_at: float = 0.5) -> tuple[Link, Receptacle]:
+           front: RGBA, body: RGBA, material: str, handle: Handle, handle_at: float = 0.5,
+           side_clear: float = 0.008) -> tuple[Link, Receptacle]:
     """An open-topped drawer filling the slot x0..x1, z0..z1 behind the plane ``y_front``, with
     the ``handle`` parts centred on its front at ``handle_at`` of the slot's height.
 
-    The link origin is the slot's front-bottom centre. The receptacle is the drawer's inner
-    bottom, in the drawer's frame, with the inner height as clearance.
+    The box is ``side_clear`` narrower than the front on each side (more where the front
+    overlays the carcass sides). The link origin is the slot's front-bottom centre. The
+    receptacle is the drawer's inner bottom, in the drawer's frame, with the inner height as
+    clearance.
     """
     gap, front_t, wall = 0.003, 0.02, 0.012
     hw = (x1 - x0) / 2 - gap
     h = z1 - z0
-    bw = hw - 0.008  # the box runs clear of the carcass sides
+    bw = hw - side_clear  # the box runs clear of the carcass sides
     bottom = (gap + 0.006, gap + 0.006 + wall)
     side_top = gap + 0.75 * h
     back = -depth + wall

@@ -3,8 +3,9 @@
 Each factory takes the registry's generator and returns an :class:`AssetModel` in the asset
 frame (z up, footprint centred on the origin on the floor, front facing +y). Sizes follow
 common retail ranges. Surfaces that hold things are solid boxes whose top is exactly the
-receptacle height. Doors (wardrobe, fridge) hinge about a vertical front edge and swing
-toward +y; drawers (dresser, nightstand) slide along +y; closed is joint value 0.
+receptacle height. Doors (wardrobe, fridge, kitchen counter, some tv stands) hinge about a
+vertical front edge and swing toward +y; drawers (dresser, nightstand, most desks, some
+kitchen counters and tv stands) slide along +y; closed is joint value 0.
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from legent_gym.world.assets.library.common import (
     WOODS,
     Handle,
     block,
+    door_hinges,
     drawer,
     finish,
     hinged_door,
@@ -61,6 +63,15 @@ def _drawer_bar(rgba: RGBA) -> Handle:
     """A 12 cm bar pull across a drawer front."""
     def make(x: float, y: float, z: float, height: float) -> list[Part]:
         return [block((x - 0.06, y, z - 0.01), (x + 0.06, y + 0.025, z + 0.01), rgba, "metal")]
+    return make
+
+
+def _flat_pull(rgba: RGBA, length: float, depth: float, *, vertical: bool = False, width: float = 0.016) -> Handle:
+    """A flat bar pull ``length`` long (across, or up the front), ``width`` wide, standing
+    ``depth`` out of the front."""
+    def make(x: float, y: float, z: float, height: float) -> list[Part]:
+        hx, hz = (width / 2, length / 2) if vertical else (length / 2, width / 2)
+        return [block((x - hx, y, z - hz), (x + hx, y + depth, z + hz), rgba, "metal")]
     return make
 
 
@@ -328,6 +339,9 @@ def make_bookshelf(rng: np.random.Generator) -> AssetModel:
 
 
 def make_tv_stand(rng: np.random.Generator) -> AssetModel:
+    """A low cabinet on legs with an open middle compartment between two side ones: open on
+    half of them, else closed by hinged doors (two on a wide side; a shelf behind them) or a
+    drawer."""
     width, depth, height = rng.uniform(1.0, 1.8), rng.uniform(0.35, 0.5), rng.uniform(0.4, 0.6)
     wood, handle = pick(rng, WOODS), pick(rng, METALS)
     front = wood if rng.random() < 0.6 else pick(rng, WOODS)
@@ -335,9 +349,13 @@ def make_tv_stand(rng: np.random.Generator) -> AssetModel:
     hw, hd = width / 2, depth / 2
     top_lo, top_hi = (-hw, -hd, height - t), (hw, hd, height)
     mid = width * rng.uniform(0.18, 0.26)  # half width of the open middle compartment
+    mass = float(rng.uniform(20, 45))
+    u = rng.random()
+    sides = "open" if u < 0.5 else "doors" if u < 0.75 else "drawers"
     bottom_lo, bottom_hi = (-hw, -hd, leg_h), (hw, hd - 0.02, leg_h + t)
+    # Open sides: the top reaches as far forward as the fronts' handles would.
     parts = [
-        block(top_lo, top_hi, wood, "wood"),
+        block(top_lo, (hw, hd + 0.02, height) if sides == "open" else top_hi, wood, "wood"),
         block(bottom_lo, bottom_hi, wood, "wood"),
         block((-hw, -hd, leg_h + t), (-hw + t, hd - 0.02, height - t), wood, "wood"),
         block((hw - t, -hd, leg_h + t), (hw, hd - 0.02, height - t), wood, "wood"),
@@ -346,17 +364,41 @@ def make_tv_stand(rng: np.random.Generator) -> AssetModel:
         block((mid, -hd + 0.01, leg_h + t), (mid + t, hd - 0.02, height - t), wood, "wood"),
         *legs(-hw, hw, -hd, hd - 0.02, 0.0, leg_h, 0.05, shade(wood, 0.7), "wood"),
     ]
-    for sign in (-1, 1):
-        x0, x1 = sorted((sign * (mid + t + 0.003), sign * (hw - 0.003)))
-        parts.append(block((x0, hd - 0.02, leg_h + 0.003), (x1, hd, height - t - 0.003), front, "wood"))
-        hx = sign * (mid + t + 0.06)
-        hz = (leg_h + height) / 2
-        parts.append(block((hx - 0.01, hd, hz - 0.06), (hx + 0.01, hd + 0.02, hz + 0.06), handle, "metal"))
-    shelf = top_receptacle("shelf", (-mid, bottom_lo[1] + 0.01, 0.0), (mid, bottom_hi[1], bottom_hi[2]),
-                           clearance=height - t - bottom_hi[2])
-    return finish("tv_stand", parts, receptacles=[top_receptacle("top", top_lo, top_hi), shelf],
+    clearance = height - t - bottom_hi[2]
+    recs = [top_receptacle("top", top_lo, top_hi),
+            top_receptacle("shelf", (-mid, bottom_lo[1] + 0.01, 0.0), (mid, bottom_hi[1], bottom_hi[2]),
+                           clearance=clearance)]
+    moving = []
+    # The open sides are no receptacles (yet): small objects would be spread over two more
+    # surfaces, and every generated house with such a stand would change.
+    for k, sign in enumerate((-1, 1)):
+        x0, x1 = sorted((sign * (mid + t), sign * hw))  # the side compartment, its side board included
+        if sides == "drawers":
+            link, rec = drawer(f"drawer_{k}", x0, x1, hd, depth - 0.03, leg_h + t, height - t, front=front,
+                               body=shade(wood, 0.9), material="wood", handle=_flat_pull(handle, 0.12, 0.02),
+                               side_clear=t + 0.008)
+            moving.append(link)
+            recs.append(rec)
+        elif sides == "doors":  # a shelf behind one door hinged at the outer end, or a pair on a wide side
+            recs.append(top_receptacle("shelf_left" if sign < 0 else "shelf_right",
+                                       (x0 + (t if sign < 0 else 0.0), bottom_lo[1] + 0.01, 0.0),
+                                       (x1 - (0.0 if sign < 0 else t), bottom_hi[1], bottom_hi[2]),
+                                       clearance=clearance))
+            edges = [x0 + 0.003, x1 - 0.003]
+            hinges = [sign < 0]
+            if x1 - x0 > 0.406:
+                edges.insert(1, (x0 + x1) / 2)
+                hinges = [True, False]
+            for i, hinge_left in enumerate(hinges):
+                a = edges[i] + (0.002 if i else 0.0)
+                b = edges[i + 1] - (0.002 if i + 1 < len(hinges) else 0.0)
+                moving.append(hinged_door(f"door_{len(moving)}", a, b, hd, leg_h + 0.003, height - t - 0.003,
+                                          hinge_left=hinge_left, rgba=front, material="wood",
+                                          handle=_flat_pull(handle, 0.12, 0.02, vertical=True, width=0.02),
+                                          handle_z=(leg_h + height) / 2, handle_inset=0.057, hinge_at_front=True))
+    return finish("tv_stand", parts, moving=moving, receptacles=recs,
                   names=["tv stand", "tv cabinet", "media console"], rooms=["living_room", "bedroom"],
-                  placement="wall", front_clearance=0.5, mass=float(rng.uniform(20, 45)))
+                  placement="wall", front_clearance=0.5, mass=mass)
 
 
 def make_tv(rng: np.random.Generator) -> AssetModel:
@@ -427,33 +469,53 @@ def make_floor_lamp(rng: np.random.Generator) -> AssetModel:
 
 
 def make_desk(rng: np.random.Generator) -> AssetModel:
+    """A top on legs, with a drawer pedestal on one side (two legs on the other) half the time,
+    else four legs and, on some, one shallow drawer under the middle of the top; the space
+    between stays clear for the knees of whoever sits at it."""
     width, depth, height = rng.uniform(1.0, 1.6), rng.uniform(0.55, 0.75), rng.uniform(0.72, 0.76)
     color, material = wood_or_metal(rng, P_WOOD)
     top_c, handle = pick(rng, WOODS), pick(rng, METALS)
-    top_t, leg = rng.uniform(0.025, 0.04), 0.05
+    top_t, leg, t = rng.uniform(0.025, 0.04), 0.05, 0.018
     hw, hd = width / 2, depth / 2
     lo, hi = (-hw, -hd, height - top_t), (hw, hd, height)
     under = height - top_t
-    parts = [block(lo, hi, top_c, "wood"),
-             block((-hw + 0.05, -hd + 0.02, under - 0.3), (hw - 0.05, -hd + 0.04, under), color, material)]
-    if rng.random() < 0.5:  # a drawer pedestal on one side, two legs on the other
-        side = 1 if rng.random() < 0.5 else -1
+    parts = [block(lo, hi, top_c, "wood")]
+    moving, recs = [], [top_receptacle("top", lo, hi)]
+    pedestal = rng.random() < 0.5
+    side = (1 if rng.random() < 0.5 else -1) if pedestal else 0
+    mass = float(rng.uniform(20, 45))
+    if pedestal:  # a drawer pedestal on one side, two legs on the other
         px0, px1 = sorted((side * hw, side * (hw - 0.4)))
-        parts.append(block((px0, -hd, 0.0), (px1, hd - 0.02, under), top_c, "wood"))
-        heights = np.linspace(0.0, under, 4)
-        for z0, z1 in zip(heights[:-1], heights[1:]):
-            parts.append(block((px0 + 0.01, hd - 0.02, z0 + 0.005), (px1 - 0.01, hd, z1 - 0.005),
-                               shade(top_c, 0.9), "wood"))
-            parts.append(block(((px0 + px1) / 2 - 0.05, hd, (z0 + z1) / 2 - 0.008),
-                               ((px0 + px1) / 2 + 0.05, hd + 0.02, (z0 + z1) / 2 + 0.008), handle, "metal"))
+        knee = (-hw + 0.05, px0) if side > 0 else (px1, hw - 0.05)  # the back panel spans the knee space
+        parts += [block((knee[0], -hd + 0.02, under - 0.3), (knee[1], -hd + 0.04, under), color, material),
+                  block((px0, -hd, 0.0), (px0 + t, hd - 0.02, under), top_c, "wood"),
+                  block((px1 - t, -hd, 0.0), (px1, hd - 0.02, under), top_c, "wood"),
+                  block((px0 + t, -hd, 0.0), (px1 - t, -hd + 0.01, under), shade(top_c, 0.85), "wood")]
+        n = 2 if rng.random() < 0.4 else 3
+        heights = np.linspace(0.0, under, n + 1)
+        for i in range(n):
+            link, rec = drawer(f"drawer_{i}", px0, px1, hd, depth - 0.03, heights[i], heights[i + 1],
+                               front=shade(top_c, 0.9), body=shade(top_c, 0.8), material="wood",
+                               handle=_flat_pull(handle, 0.1, 0.02), side_clear=t + 0.008)
+            moving.append(link)
+            recs.append(rec)
         lx0, lx1 = sorted((-side * hw, -side * (hw - leg)))
         for y0, y1 in ((-hd, -hd + leg), (hd - leg, hd)):
             parts.append(block((lx0, y0, 0.0), (lx1, y1, under), color, material))
     else:
-        parts += legs(-hw, hw, -hd, hd, 0.0, under, leg, color, material)
-    return finish("desk", parts, receptacles=[top_receptacle("top", lo, hi)],
+        parts += [block((-hw + 0.05, -hd + 0.02, under - 0.3), (hw - 0.05, -hd + 0.04, under), color, material),
+                  *legs(-hw, hw, -hd, hd, 0.0, under, leg, color, material)]
+        if rng.random() < 0.4:  # one shallow drawer under the middle, between two runners
+            dw, dh, yf = min(0.6, 0.45 * width), 0.1, hd - 0.02
+            for x0, x1 in ((-dw / 2 - t, -dw / 2), (dw / 2, dw / 2 + t)):
+                parts.append(block((x0, -hd + 0.04, under - dh), (x1, yf, under), color, material))
+            link, rec = drawer("drawer_0", -dw / 2, dw / 2, yf, yf + hd - 0.05, under - dh, under, front=top_c,
+                               body=shade(top_c, 0.85), material="wood", handle=_flat_pull(handle, 0.1, 0.015))
+            moving.append(link)
+            recs.append(rec)
+    return finish("desk", parts, moving=moving, receptacles=recs,
                   names=["desk", "writing desk", "work desk"], rooms=["office", "bedroom"],
-                  placement="wall", front_clearance=0.7, mass=float(rng.uniform(20, 45)))
+                  placement="wall", front_clearance=0.7, mass=mass)
 
 
 def make_chair(rng: np.random.Generator) -> AssetModel:
@@ -487,19 +549,17 @@ def make_chair(rng: np.random.Generator) -> AssetModel:
 
 
 def _base_cabinet(width: float, depth: float, top_z: float, doors: int, body: RGBA, front: RGBA,
-                  handle: RGBA, *, hollow: bool) -> list[Part]:
-    """A kitchen base unit up to ``top_z``: toe kick, body (or open box), doors and handles."""
+                  handle: RGBA) -> list[Part]:
+    """A sink's base unit up to ``top_z``: toe kick, an open box, doors and handles (fixed: the
+    basin and its pipes fill it)."""
     hw, hd, kick = width / 2, depth / 2, 0.1
     yc = hd - 0.045  # the doors stand in front of the body, behind the countertop's edge
-    parts = [block((-hw + 0.01, -hd, 0.0), (hw - 0.01, yc - 0.05, kick), shade(body, 0.5), "wood")]
-    if hollow:
-        t = 0.018
-        parts += [block((-hw, -hd, kick), (-hw + t, yc, top_z), body, "wood"),
-                  block((hw - t, -hd, kick), (hw, yc, top_z), body, "wood"),
-                  block((-hw + t, -hd, kick), (hw - t, -hd + t, top_z), body, "wood"),
-                  block((-hw + t, -hd + t, kick), (hw - t, yc, kick + t), body, "wood")]
-    else:
-        parts.append(block((-hw, -hd, kick), (hw, yc, top_z), body, "wood"))
+    t = 0.018
+    parts = [block((-hw + 0.01, -hd, 0.0), (hw - 0.01, yc - 0.05, kick), shade(body, 0.5), "wood"),
+             block((-hw, -hd, kick), (-hw + t, yc, top_z), body, "wood"),
+             block((hw - t, -hd, kick), (hw, yc, top_z), body, "wood"),
+             block((-hw + t, -hd, kick), (hw - t, -hd + t, top_z), body, "wood"),
+             block((-hw + t, -hd + t, kick), (hw - t, yc, kick + t), body, "wood")]
     edges = np.linspace(-hw, hw, doors + 1)
     for a, b in zip(edges[:-1], edges[1:]):
         parts.append(block((a + 0.002, yc, kick + 0.003), (b - 0.002, yc + 0.02, top_z - 0.003), front, "wood"))
@@ -510,17 +570,71 @@ def _base_cabinet(width: float, depth: float, top_z: float, doors: int, body: RG
 
 
 def make_kitchen_counter(rng: np.random.Generator) -> AssetModel:
+    """A base cabinet under a stone top: a row of hinged doors, with a shelf half way up
+    behind them; on about a third, drawers as well: a row of them under the top, above the
+    doors, or a column of three at one end instead of a door."""
     width, depth, height = rng.uniform(0.8, 2.0), rng.uniform(0.58, 0.65), rng.uniform(0.88, 0.94)
     body, front, handle, stone = pick(rng, WOODS), pick(rng, WOODS + APPLIANCES), pick(rng, METALS), pick(rng, COUNTERTOPS)
     top_t = rng.uniform(0.03, 0.04)
-    hw, hd = width / 2, depth / 2
-    lo, hi = (-hw, -hd, height - top_t), (hw, hd, height)
-    parts = _base_cabinet(width, depth, height - top_t, max(1, round(width / 0.45)), body, front, handle,
-                          hollow=False)
-    parts.append(block(lo, hi, stone, "ceramic"))
-    return finish("kitchen_counter", parts, receptacles=[top_receptacle("top", lo, hi)],
+    mass = float(rng.uniform(40, 100))
+    layout = rng.random()
+    hw, hd, kick, t = width / 2, depth / 2, 0.1, 0.018
+    top_z = height - top_t
+    yc = hd - 0.045  # the carcass front: the doors stand in front of it, behind the top's edge
+    lo, hi = (-hw, -hd, top_z), (hw, hd, height)
+    inner = shade(body, 0.9)
+    columns = max(1, round(width / 0.45))
+    parts = [block((-hw + 0.01, -hd, 0.0), (hw - 0.01, yc - 0.05, kick), shade(body, 0.5), "wood"),
+             block((-hw, -hd, kick), (-hw + t, yc, top_z), body, "wood"),
+             block((hw - t, -hd, kick), (hw, yc, top_z), body, "wood"),
+             block((-hw + t, -hd, kick), (hw - t, -hd + t, top_z), inner, "wood"),
+             block(lo, hi, stone, "ceramic")]
+    moving, drawers = [], []
+    door_pull, drawer_pull = _flat_pull(handle, 0.12, 0.02, vertical=True), _flat_pull(handle, 0.12, 0.02)
+    slot_depth = depth - 0.05  # drawer boxes run back to the carcass's back
+    # The door section (x0..x1), its doors' hinge sides and their top.
+    x0, x1, door_top = -hw, hw, top_z
+    if layout < 2 / 3:
+        hinges = door_hinges(columns)
+    elif layout < 2 / 3 + 2 / 9:  # a row of drawers under the top (one per column, at most three)
+        door_top = top_z - rng.uniform(0.13, 0.17)
+        n = columns if columns <= 3 else 2
+        edges = np.linspace(-hw, hw, n + 1)
+        for i in range(n):
+            drawers.append(drawer(f"drawer_{i}", edges[i], edges[i + 1], yc + 0.02, slot_depth, door_top, top_z,
+                                  front=front, body=inner, material="wood", handle=drawer_pull, side_clear=t + 0.008))
+        hinges = door_hinges(columns)
+    else:  # a column of three drawers at one end; the doors hinge away from it
+        left = rng.random() < 0.5
+        xe = -hw + width / columns if left else hw - width / columns
+        bank = (-hw, xe) if left else (xe, hw)
+        slots = np.linspace(kick, top_z, 4)
+        for i in range(3):
+            drawers.append(drawer(f"drawer_{i}", bank[0], bank[1], yc + 0.02, slot_depth, slots[i], slots[i + 1],
+                                  front=front, body=inner, material="wood", handle=drawer_pull, side_clear=t + 0.008))
+        parts.append(block((xe - t / 2, -hd + t, kick), (xe + t / 2, yc, top_z), inner, "wood"))
+        x0, x1 = (xe + t / 2, hw) if left else (-hw, xe - t / 2)
+        hinges = [not left] * min(2, columns - 1)
+    # The carcass bottom and a shelf half way up, behind the doors.
+    b0, b1 = max(x0, -hw + t), min(x1, hw - t)
+    shelf_z = (kick + door_top) / 2
+    floor_lo, floor_hi = (b0, -hd + t, kick), (b1, yc, kick + t)
+    shelf_lo, shelf_hi = (b0, -hd + t, shelf_z), (b1, yc - 0.02, shelf_z + t)
+    parts += [block(floor_lo, floor_hi, inner, "wood"), block(shelf_lo, shelf_hi, inner, "wood")]
+    edges = np.linspace(-hw if x0 == -hw else x0 - t / 2, hw if x1 == hw else x1 + t / 2, len(hinges) + 1)
+    for i, hinge_left in enumerate(hinges):
+        moving.append(hinged_door(f"door_{i}", edges[i] + 0.002, edges[i + 1] - 0.002, yc + 0.02, kick + 0.003,
+                                  door_top - 0.003, hinge_left=hinge_left, rgba=front, material="wood",
+                                  handle=door_pull, handle_z=door_top - 0.09, handle_inset=0.04,
+                                  hinge_at_front=True))
+    recs = [top_receptacle("top", lo, hi),
+            top_receptacle("shelf_0", floor_lo, floor_hi, clearance=shelf_z - floor_hi[2]),
+            top_receptacle("shelf_1", shelf_lo, shelf_hi, clearance=door_top - shelf_hi[2])]
+    moving += [link for link, _ in drawers]
+    recs += [rec for _, rec in drawers]
+    return finish("kitchen_counter", parts, moving=moving, receptacles=recs,
                   names=["countertop", "counter", "kitchen counter"], rooms=["kitchen"], placement="wall",
-                  front_clearance=0.8, mass=float(rng.uniform(40, 100)))
+                  front_clearance=0.8, mass=mass)
 
 
 def make_sink(rng: np.random.Generator) -> AssetModel:
@@ -534,7 +648,7 @@ def make_sink(rng: np.random.Generator) -> AssetModel:
     yb1 = hd - front_strip
     yb0 = max(-hd + 0.12, yb1 - rng.uniform(0.32, 0.42))
     floor = height - rng.uniform(0.15, 0.2)  # the basin's inner bottom
-    parts = _base_cabinet(width, depth, height - top_t, 2, body, front, handle, hollow=True)
+    parts = _base_cabinet(width, depth, height - top_t, 2, body, front, handle)
     # The countertop with a hole for the basin, as four strips around it.
     parts += [block((-hw, yb1, height - top_t), (hw, hd, height), stone, "ceramic"),
               block((-hw, -hd, height - top_t), (hw, yb0, height), stone, "ceramic"),

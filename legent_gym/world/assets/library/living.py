@@ -1,8 +1,9 @@
 """Built-in living room, bedroom, dining room, office and hallway furniture (parametric, seeded, low-poly; registered on import).
 
 Seating: ottoman, bench, stool, office chair. Storage: filing cabinet (slide drawers),
-storage cabinet (hinged doors, shelves inside), shoe rack, sideboard, chest. Hallway and
-living room: coat rack, console table, upright piano.
+storage cabinet (hinged doors, shelves inside), shoe rack, sideboard (hinged doors, a shelf
+inside, on some a row of drawers above them), chest. Hallway and living room: coat rack,
+console table, upright piano.
 
 The conventions are those of :mod:`legent_gym.world.assets.library.furniture`: each factory
 draws all of its randomness from the generator it is given and returns an
@@ -27,6 +28,7 @@ from legent_gym.world.assets.library.common import (
     WOODS,
     Handle,
     block,
+    door_hinges,
     drawer,
     finish,
     hinged_door,
@@ -494,19 +496,27 @@ def make_shoe_rack(rng: np.random.Generator) -> AssetModel:
 
 
 def make_sideboard(rng: np.random.Generator) -> AssetModel:
+    """A long low cabinet: two to four hinged doors (the left half hinged on the left, the
+    rest on the right) in front of a shelf, and on some a row of two drawers above them."""
     width, depth, height = rng.uniform(1.2, 2.0), rng.uniform(0.4, 0.5), rng.uniform(0.7, 0.9)
     wood, handle = pick(rng, WOODS), pick(rng, METALS)
     front = wood if rng.random() < 0.55 else pick(rng, WOODS + APPLIANCES[:1] + FABRICS[3:5])
     style = HANDLES[int(rng.integers(3))]
     doors = int(np.clip(round(width / rng.uniform(0.45, 0.6)), 2, 4))
-    hw, hd = width / 2, depth / 2
+    hw, hd, t = width / 2, depth / 2, 0.018
     top_t = rng.uniform(0.02, 0.035)
-    yf = hd - 0.02
+    yf = hd - 0.02  # the carcass front; the doors and drawers lie in front of it
     leg_style = ("tapered", "square", "plinth")[int(rng.integers(3))]
     foot = rng.uniform(0.12, 0.25) if leg_style != "plinth" else rng.uniform(0.05, 0.09)
     top_lo, top_hi = (-hw - 0.01, -hd, height - top_t), (hw + 0.01, hd + 0.01, height)
     body_top = height - top_t
-    parts = [block(top_lo, top_hi, wood, "wood"), block((-hw, -hd, foot), (hw, yf, body_top), wood, "wood")]
+    inner = shade(wood, 0.9)
+    floor_lo, floor_hi = (-hw + t, -hd + 0.01, foot), (hw - t, yf, foot + t)
+    parts = [block(top_lo, top_hi, wood, "wood"),
+             block((-hw, -hd, foot), (-hw + t, yf, body_top), wood, "wood"),
+             block((hw - t, -hd, foot), (hw, yf, body_top), wood, "wood"),
+             block((-hw + t, -hd, foot), (hw - t, -hd + 0.01, body_top), inner, "wood"),
+             block(floor_lo, floor_hi, inner, "wood")]
     leg_c, leg_m = (shade(wood, 0.85), "wood") if rng.random() < 0.7 else (pick(rng, METALS), "metal")
     if leg_style == "tapered":
         r = rng.uniform(0.02, 0.03)
@@ -519,22 +529,34 @@ def make_sideboard(rng: np.random.Generator) -> AssetModel:
     else:
         parts.append(block((-hw + 0.03, -hd + 0.02, 0.0), (hw - 0.03, yf - 0.03, foot), shade(wood, 0.7), "wood"))
     drawer_row = rng.uniform(0.12, 0.16) if rng.random() < 0.45 else 0.0
+    mass = float(width * rng.uniform(25, 40))
     door_top = body_top - drawer_row
+    recs = [top_receptacle("top", top_lo, top_hi)]
+    if drawer_row or door_top - floor_hi[2] < 0.45:  # one level (the drawers' bottoms above it)
+        recs.append(top_receptacle("shelf_0", floor_lo, floor_hi, clearance=door_top - floor_hi[2]))
+    else:  # a shelf half way up
+        shelf_z = (floor_hi[2] + door_top - t) / 2
+        shelf_lo, shelf_hi = (-hw + t, -hd + 0.01, shelf_z), (hw - t, yf - 0.015, shelf_z + t)
+        parts.append(block(shelf_lo, shelf_hi, inner, "wood"))
+        recs += [top_receptacle("shelf_0", floor_lo, floor_hi, clearance=shelf_z - floor_hi[2]),
+                 top_receptacle("shelf_1", shelf_lo, shelf_hi, clearance=door_top - shelf_hi[2])]
     edges = np.linspace(-hw, hw, doors + 1)
-    for a, b in zip(edges[:-1], edges[1:]):
-        parts.append(block((a + 0.003, yf, foot + 0.004), (b - 0.003, hd, door_top - 0.003), front, "wood"))
-        xh = b - 0.05 if (a + b) < 0 else a + 0.05  # pulls at the meeting edges
-        if doors % 2 and abs(a + b) < 1e-6:
-            xh = b - 0.05
-        hz = door_top - 0.08 if style == "pull" else (foot + door_top) / 2
-        parts.append(_handle(style, xh, hd, hz, handle, vertical=True))
-        if drawer_row:
-            parts.append(block((a + 0.003, yf, door_top + 0.003), (b - 0.003, hd, body_top - 0.003), front, "wood"))
-            parts.append(_handle("knob" if style == "knob" else "pull", (a + b) / 2, hd, door_top + drawer_row / 2,
-                                 handle))
-    return finish("sideboard", parts, receptacles=[top_receptacle("top", top_lo, top_hi)],
+    hz = door_top - 0.08 if style == "pull" else (foot + door_top) / 2
+    moving = [hinged_door(f"door_{i}", edges[i] + 0.003, edges[i + 1] - 0.003, hd, foot + 0.004, door_top - 0.003,
+                          hinge_left=hinge_left, rgba=front, material="wood",
+                          handle=_pull(style, handle, vertical=True), handle_z=hz,
+                          handle_inset=0.06 if style == "pull" else 0.047, hinge_at_front=True)
+              for i, hinge_left in enumerate(door_hinges(doors))]
+    if drawer_row:
+        for i, (a, b) in enumerate(((-hw, 0.0), (0.0, hw))):
+            link, rec = drawer(f"drawer_{i}", a, b, hd, depth - 0.03, door_top, body_top, front=front, body=inner,
+                               material="wood", handle=_pull("knob" if style == "knob" else "pull", handle),
+                               side_clear=t + 0.008)
+            moving.append(link)
+            recs.append(rec)
+    return finish("sideboard", parts, moving=moving, receptacles=recs,
                   names=["sideboard", "buffet", "credenza"], rooms=["dining_room", "living_room"],
-                  placement="wall", front_clearance=0.7, mass=float(width * rng.uniform(25, 40)))
+                  placement="wall", front_clearance=0.7, mass=mass)
 
 
 def make_chest(rng: np.random.Generator) -> AssetModel:
