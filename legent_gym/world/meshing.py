@@ -62,10 +62,6 @@ class Palette:
             self._index[key] = idx
         return idx
 
-    def all_uvs(self) -> np.ndarray:
-        idx = np.arange(self.size * self.size)
-        return np.stack([(idx % self.size + 0.5) / self.size, (idx // self.size + 0.5) / self.size], axis=1)
-
     def image(self) -> np.ndarray:
         img = np.zeros((self.size * self.size, 3), dtype=np.uint8)
         for colour, idx in self._index.items():
@@ -139,9 +135,6 @@ class Atlas:
     def tile_boxes(self) -> list[tuple[int, int, tuple[int, int, int]]]:
         """(x, y, colour) of every tile: what re-colouring shifts with its colour."""
         return [(*self.slot_origin(slot), rgb8) for slot, (_, rgb8) in enumerate(self.tiles)]
-
-    def __len__(self) -> int:
-        return len(self.palette)
 
 
 @lru_cache(maxsize=4)

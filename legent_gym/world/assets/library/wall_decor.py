@@ -32,7 +32,8 @@ SKIES: Colours = ((0.55, 0.72, 0.9), (0.85, 0.78, 0.7), (0.95, 0.7, 0.45), (0.3,
 HILLS: Colours = ((0.35, 0.52, 0.3), (0.5, 0.6, 0.35), (0.45, 0.4, 0.55), (0.3, 0.4, 0.5), (0.62, 0.55, 0.4))
 PAINTS: Colours = ((0.85, 0.25, 0.2), (0.95, 0.75, 0.2), (0.2, 0.4, 0.75), (0.15, 0.15, 0.18), (0.9, 0.9, 0.86),
                    (0.3, 0.6, 0.55), (0.85, 0.5, 0.6), (0.55, 0.35, 0.25))
-FRAME_COLOURS: Colours = WOODS + METALS[1:4] + ((0.08, 0.08, 0.08), (0.92, 0.9, 0.86), (0.75, 0.6, 0.3))
+#: Frames that are not wooden: metals, black, white and gilt.
+OTHER_FRAMES: Colours = METALS[1:4] + ((0.08, 0.08, 0.08), (0.92, 0.9, 0.86), (0.75, 0.6, 0.3))
 #: A canvas's depth in front of its ground: each layer a little further out, so none is hidden.
 LAYER = 0.0015
 
@@ -101,7 +102,7 @@ def make_wall_picture(rng: np.random.Generator) -> AssetModel:
         depth = float(rng.uniform(0.025, 0.05))
         border = float(rng.uniform(0.03, 0.07)) * (0.5 if kind == "print" else 1.0)
         wooden = rng.random() < 0.6
-        frame = pick(rng, WOODS if wooden else FRAME_COLOURS[len(WOODS):], jitter=0.04)
+        frame = pick(rng, WOODS if wooden else OTHER_FRAMES, jitter=0.04)
         material = "wood" if wooden else "metal"
         hw = width / 2
         parts += [block((-hw, 0.0, 0.0), (hw, depth, border), frame, material, collision="none"),
