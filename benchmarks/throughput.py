@@ -28,6 +28,13 @@ observations, one core. Rows (``--only`` names):
   ``tworoom-houses-helpers``: those rows with ``helpers=H`` (``--helpers``; episodes
   prepared in helper processes, ``legent_gym/envs/factory.py``), not pinned: the helpers
   use the other cores;
+* ``tworoom-free``, ``tworoom-eph8-free``, ``tworoom-houses-cache-free``, ``oneroom-eph8-free``:
+  those rows in a process left on every core, as ``gym.make`` runs in a user's training
+  process (the other single-env rows pin their process to one core, as a vector env pins
+  its workers). ``*-free-threads``: the same with ``LP_NUM_THREADS`` set to the number of
+  cores, which is Mesa's own default: llvmpipe's rasteriser threads, as every unpinned
+  process had them before ``legent_gym.world.render`` set ``LP_NUM_THREADS=0`` for "fast"
+  renderers (``docs/performance.md``, "Rendering threads");
 * ``vec1``, ``vec2``, ``vec8`` (any ``vecN``, and ``vecN-eph8``, ``vecN-helpers``): ``gym.make_vec("Legent/ComeHere-OneRoom-v0", num_envs=N,
   vectorization_mode="async")`` (forkserver workers, same-step autoreset), steps summed over
   the envs. N=1 runs pinned to one core (the parent and its env process), N=2 unpinned;
@@ -140,6 +147,10 @@ def _configs() -> dict[str, dict]:
         row = dict(rows[base], kwargs={**rows[base]["kwargs"], "helpers": "HELPERS"}, pinned=False)
         row["label"] += ", helpers=H"
         rows[f"{base}-helpers"] = row
+    for base in ("tworoom", "tworoom-eph8", "tworoom-houses-cache", "oneroom-eph8"):
+        rows[f"{base}-free"] = dict(rows[base], pinned=False, label=rows[base]["label"] + ", unpinned")
+        rows[f"{base}-free-threads"] = dict(rows[base], pinned=False, env={"LP_NUM_THREADS": str(os.cpu_count())},
+                                            label=rows[base]["label"] + ", unpinned, llvmpipe's threads")
     for n in (1, 2, 8):
         rows.update({name: vector_config(name) for name in (f"vec{n}", f"vec{n}-eph8", f"svec{n}")})
     rows["svec8-lazy"] = vector_config("svec8-lazy")  # other svec rows (-eph8, -pool) by name
@@ -473,7 +484,6 @@ def _make_worker(config: dict, args) -> tuple[object, dict]:
         loop = _Loop(env, legent_actions(4096, seed), seed)
         facts["episode_cap"] = env.spec.max_episode_steps
     elif kind == "vector":
-        os.environ.update(config.get("env", {}))  # the forkserver and the env processes inherit it
         import gymnasium as gym
 
         import legent_gym  # noqa: F401
@@ -515,6 +525,7 @@ def worker_main(name: str, args) -> int:
     os.dup2(2, 1)
     sys.path.insert(0, str(HERE))
     config = row_config(name)
+    os.environ.update(config.get("env", {}))  # before any OpenGL: the row's processes inherit it
     if config.get("pinned", True) and (config["kind"] not in ("vector", "raw") or config["num_envs"] == 1):
         from benchmarks_common import pin_to_one_core
 

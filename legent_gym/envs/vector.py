@@ -52,5 +52,5 @@ def settle_worker() -> int | None:
     core = cores[number % len(cores)]
     os.sched_setaffinity(0, {core})
     # Read when the OpenGL driver loads, at the first frame: no context exists yet.
-    os.environ.setdefault("LP_NUM_THREADS", "0")
+    gl_backend.draw_in_calling_thread()
     return core

@@ -46,6 +46,16 @@ def context_class() -> type:
     return chosen
 
 
+def draw_in_calling_thread() -> None:
+    """Have Mesa's llvmpipe draw in the thread that renders (``LP_NUM_THREADS=0``), unless
+    ``LP_NUM_THREADS`` is set already. Mesa reads it when the process makes its first
+    OpenGL context, so this is called just before that. Left alone, llvmpipe starts a
+    rasteriser thread per core the process may use and splits every frame between them:
+    for a 96 px frame the hand-over costs more than the drawing (``docs/performance.md``,
+    "Rendering threads"). Same images either way; other drivers (NVIDIA's) ignore it."""
+    os.environ.setdefault("LP_NUM_THREADS", "0")
+
+
 # Live OpenGL contexts, for leak checks: the renderer registers each EGL/OSMesa context it
 # makes ("gl") and each MuJoCo rendering context (``MjrContext``: framebuffers, uploaded
 # meshes and textures, "mjr"). Weak references: an object that is garbage is not counted.

@@ -36,6 +36,8 @@ from collections.abc import Callable, Generator, Iterable
 from dataclasses import dataclass
 from typing import Any
 
+from legent_gym.utils import gl_backend
+
 __all__ = ["BACKENDS", "Backend", "BackendUnavailable", "RAY_TASK_RETRIES", "connect_ray", "in_call_order",
            "ray_results", "require_ray"]
 
@@ -189,8 +191,8 @@ def _run_call(setup: tuple, call: tuple) -> Any:
     token, fn, initializer, initargs = setup
     if _set_up != token:
         # llvmpipe renders in this thread, as in a process worker (read when the first
-        # OpenGL context is made). Same images either way.
-        os.environ.setdefault("LP_NUM_THREADS", "0")
+        # OpenGL context is made), whatever the first frame's profile.
+        gl_backend.draw_in_calling_thread()
         if initializer is not None:
             initializer(*initargs)
         _set_up = token

@@ -39,6 +39,7 @@ from typing import Any
 
 from tqdm import tqdm
 
+from legent_gym.utils import gl_backend
 from legent_gym.utils.scale import Backend, in_call_order, ray_results
 
 __all__ = ["map_ordered", "mp_context"]
@@ -186,8 +187,8 @@ def _start_worker(parent_pid: int, crew: _Crew, initializer, initargs) -> None:
     if crew.cores:
         os.sched_setaffinity(0, {crew.cores[index % len(crew.cores)]})
         # llvmpipe sizes its thread pool to the cores it may use (one now); say so for a
-        # Mesa that does not look at the affinity. Same images either way.
-        os.environ.setdefault("LP_NUM_THREADS", "0")
+        # Mesa that does not look at the affinity, and whatever the first frame's profile.
+        gl_backend.draw_in_calling_thread()
     if initializer is not None:
         try:
             initializer(*initargs)

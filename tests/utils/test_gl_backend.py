@@ -180,3 +180,52 @@ def test_gl_info_names_what_renders():
     bad = subprocess.run([command, "gl-info"], capture_output=True, text=True, timeout=120,
                          env={**env, "MUJOCO_EGL_DEVICE_ID": "99"})
     assert bad.returncode != 0 and "MUJOCO_EGL_DEVICE_ID" in bad.stderr
+
+
+#: Renders one 32 x 32 frame in the profile argv[1] names and prints the renderer, the
+#: ``LP_NUM_THREADS`` then set and the names of the process's threads.
+THREADS_PROBE = """
+import json, os, sys
+import legent_gym
+from OpenGL import GL
+from legent_gym.world import load_scene
+from legent_gym.world.builder import build_world
+from legent_gym.world.render import Renderer
+renderer = Renderer(build_world(load_scene("examples/scenes/one_room.json")), 32, 32, profile=sys.argv[1])
+renderer.rgb("agent")
+threads = [open(f"/proc/self/task/{t}/comm").read().strip() for t in os.listdir("/proc/self/task")]
+print(json.dumps({"renderer": GL.glGetString(GL.GL_RENDERER).decode(), "lp": os.environ.get("LP_NUM_THREADS"),
+                  "threads": threads}))
+"""
+
+
+def threads_probe(profile: str, **variables: str) -> dict:
+    env = {k: v for k, v in os.environ.items() if k not in ("LP_NUM_THREADS", "MUJOCO_GL", "PYOPENGL_PLATFORM",
+                                                              "DISPLAY", "WAYLAND_DISPLAY")}
+    env.update(variables)
+    done = subprocess.run([sys.executable, "-c", THREADS_PROBE, profile], cwd=REPO, env=env,
+                          capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr[-3000:]
+    return json.loads([line for line in done.stdout.splitlines() if line.startswith("{")][-1])
+
+
+def rasteriser_threads(found: dict) -> int:
+    return sum(name.startswith("llvmpipe-") for name in found["threads"])
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="needs Linux's /proc to name threads")
+def test_a_fast_renderer_has_llvmpipe_draw_in_its_own_thread_unless_the_user_chose():
+    """A process whose first renderer is "fast" sets ``LP_NUM_THREADS=0`` before its
+    OpenGL context (llvmpipe then starts no rasteriser thread); a "pretty" first renderer
+    leaves llvmpipe its threads; a value the user set is kept."""
+    fast = threads_probe("fast")
+    assert fast["lp"] == "0"
+    if "llvmpipe" not in fast["renderer"]:
+        pytest.skip(f"renders on {fast['renderer']}, not llvmpipe: no rasteriser threads to count")
+    assert rasteriser_threads(fast) == 0
+    chosen = threads_probe("fast", LP_NUM_THREADS="2")
+    assert chosen["lp"] == "2" and rasteriser_threads(chosen) == 2
+    pretty = threads_probe("pretty")
+    assert pretty["lp"] is None
+    if len(os.sched_getaffinity(0)) > 1:
+        assert rasteriser_threads(pretty) > 0
