@@ -232,6 +232,21 @@ def set_texture_filters(context: mujoco.MjrContext, model: mujoco.MjModel, profi
         GL.glTexParameteri(GL.GL_TEXTURE_2D, GL.GL_TEXTURE_MAG_FILTER, mode)
 
 
+#: The sides the "pretty" profile's shadow maps may have (texels).
+SHADOW_MAP_SIDES = (512, 2048)
+
+
+def shadow_map_size(width: int, height: int) -> int:
+    """The side of the "pretty" profile's shadow maps for images of this size: about eight
+    texels per image pixel across, a power of two within :data:`SHADOW_MAP_SIDES` (2048
+    from 256 px up). Drawing the shadow maps is most of a "pretty" frame on a CPU: at
+    96 px a 1024 map (the size given) draws about three times as fast as a 2048 one, and
+    0.1% of the pixels then differ by more than 16 levels (``docs/performance.md``)."""
+    side = 8 * max(width, height)
+    low, high = SHADOW_MAP_SIDES
+    return min(high, max(low, 1 << (side - 1).bit_length()))
+
+
 def _scene_size(model: mujoco.MjModel) -> int:
     return max(1000, model.ngeom + 100)
 
@@ -345,7 +360,7 @@ class Renderer:
         vis.global_.offwidth = max(self.width, vis.global_.offwidth if self.profile == "pretty" else 0)
         vis.global_.offheight = max(self.height, vis.global_.offheight if self.profile == "pretty" else 0)
         if self.profile == "pretty":
-            vis.quality.shadowsize = 2048
+            vis.quality.shadowsize = shadow_map_size(self.width, self.height)
             vis.quality.offsamples = 4
         else:
             vis.quality.shadowsize = 0

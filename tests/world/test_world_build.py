@@ -12,7 +12,7 @@ from legent_gym.world.assets import registry
 from legent_gym.world.builder import GROUP_COLLISION, BuildOptions, build_world
 from legent_gym.world.materials import surface_pattern
 from legent_gym.world.preview import fitted_camera, preview_scene
-from legent_gym.world.render import FreeCamera, Renderer, set_texture_filters
+from legent_gym.world.render import FreeCamera, Renderer, set_texture_filters, shadow_map_size
 from legent_gym.world.scene import ImportedAsset, load_scene, validate_scene
 
 BUILTIN = registry.asset_ids(builtin=True)
@@ -167,6 +167,18 @@ def test_views_and_profiles(two_room):
         Renderer(world, 32, 32).rgb("nowhere")
     with pytest.raises(ValueError, match="render profile"):
         Renderer(world, 32, 32, "ultra")
+
+
+def test_pretty_shadow_maps_scale_with_the_image(two_room):
+    """The "pretty" profile's shadow maps are about eight texels per image pixel across,
+    a power of two from 512 to 2048: what its renderer sets in the model's visual quality
+    before it makes its context."""
+    world = build_world(two_room)
+    for size, side in ((48, 512), (96, 1024), (128, 1024), (224, 2048), (448, 2048)):
+        r = Renderer(world, size, size, "pretty")
+        assert r.rgb("agent").std() > 3
+        assert world.model.vis.quality.shadowsize == side == shadow_map_size(size, size)
+        r.close()
 
 
 def test_agent_does_not_see_itself_but_sees_the_user():
