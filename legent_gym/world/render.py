@@ -239,7 +239,7 @@ SHADOW_MAP_SIDES = (512, 2048)
 def shadow_map_size(width: int, height: int) -> int:
     """The side of the "pretty" profile's shadow maps for images of this size: about eight
     texels per image pixel across, a power of two within :data:`SHADOW_MAP_SIDES` (2048
-    from 256 px up). Drawing the shadow maps is most of a "pretty" frame on a CPU: at
+    above 128 px). Drawing the shadow maps is most of a "pretty" frame on a CPU: at
     96 px a 1024 map (the size given) draws about three times as fast as a 2048 one, and
     0.1% of the pixels then differ by more than 16 levels (``docs/performance.md``)."""
     side = 8 * max(width, height)
