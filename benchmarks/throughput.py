@@ -31,10 +31,10 @@ observations, one core. Rows (``--only`` names):
 * ``tworoom-free``, ``tworoom-eph8-free``, ``tworoom-houses-cache-free``, ``oneroom-eph8-free``:
   those rows in a process left on every core, as ``gym.make`` runs in a user's training
   process (the other single-env rows pin their process to one core, as a vector env pins
-  its workers). ``*-free-threads``: the same with ``LP_NUM_THREADS`` set to the number of
-  cores, which is Mesa's own default: llvmpipe's rasteriser threads, as every unpinned
-  process had them before ``legent_gym.world.render`` set ``LP_NUM_THREADS=0`` for "fast"
-  renderers (``docs/performance.md``, "Rendering threads");
+  its workers): llvmpipe draws in the rendering thread, as ``legent_gym.world.render``
+  has it for "fast" renderers. ``*-free-threads``: the same with ``LP_NUM_THREADS`` set to
+  the number of cores, Mesa's own default, so that llvmpipe splits each frame between its
+  rasteriser threads (``docs/performance.md``, "Rendering threads");
 * ``vec1``, ``vec2``, ``vec8`` (any ``vecN``, and ``vecN-eph8``, ``vecN-helpers``): ``gym.make_vec("Legent/ComeHere-OneRoom-v0", num_envs=N,
   vectorization_mode="async")`` (forkserver workers, same-step autoreset), steps summed over
   the envs. N=1 runs pinned to one core (the parent and its env process), N=2 unpinned;
