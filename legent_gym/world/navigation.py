@@ -238,6 +238,9 @@ class NavGrid:
         self._open: np.ndarray | None = None
         self._component_masks: dict[int, np.ndarray] = {}
         self._padded_masks: dict[str, np.ndarray] = {}
+        #: can_reach's answers by (corners, reach, component): the house generator asks of a
+        #: receptacle's rectangle while placing on it, and its check of the house again.
+        self._reach_memo: dict[tuple[bytes, float, int | None], bool] = {}
         self.cache_size = 32
 
     # -- construction -------------------------------------------------------------------
@@ -281,7 +284,7 @@ class NavGrid:
         state.update(scene=scene, footprints=self.footprints_for(scene),
                      # Caches of the same cells, copied so that the two grids' caches grow apart.
                      _fields=OrderedDict(self._fields), _component_masks=dict(self._component_masks),
-                     _padded_masks=dict(self._padded_masks))
+                     _padded_masks=dict(self._padded_masks), _reach_memo=dict(self._reach_memo))
         grid = type(self).__new__(type(self))
         vars(grid).update(state)
         return grid
@@ -646,7 +649,12 @@ class NavGrid:
     def can_reach(self, corners: np.ndarray, reach: float = 1.0, component: int | None = None) -> bool:
         """Whether some walkable cell (of ``component``) is within ``reach`` of the
         rectangle ``corners`` with no wall between."""
-        return len(self.reach_cells(corners, reach, component, first_only=True)[0]) > 0
+        c = np.ascontiguousarray(corners, dtype=np.float64)
+        key = (c.tobytes(), float(reach), component)
+        found = self._reach_memo.get(key)
+        if found is None:
+            found = self._reach_memo[key] = len(self.reach_cells(c, reach, component, first_only=True)[0]) > 0
+        return found
 
     def reach_cells(self, corners: np.ndarray, reach: float, component: int | None = None, *,
                     first_only: bool = False, rank=None) -> tuple[np.ndarray, np.ndarray]:

@@ -96,9 +96,14 @@ def house_statistics(model: mujoco.MjModel, data: mujoco.MjData) -> None:
     own = model.geom_bodyid == body
     radius = model.geom_rbound[~own][:, None]
     points = data.geom_xpos[~own]
-    bodies = data.xpos[1:][np.arange(1, model.nbody) != body]
-    lo = np.minimum((points - radius).min(axis=0), bodies.min(axis=0))
-    hi = np.maximum((points + radius).max(axis=0), bodies.max(axis=0))
+    others = np.arange(1, model.nbody) != body
+    # MuJoCo's box: every body's frame and centre of mass, joint anchor, site, and geom's
+    # bounding sphere (a static body's centre of mass is that of its geoms, which for a rug
+    # lying on the floor need not be its frame).
+    corners = [data.xpos[1:][others], data.xipos[1:][others], data.xanchor, data.site_xpos]
+    known = np.concatenate([c.reshape(-1, 3) for c in corners])
+    lo = np.minimum((points - radius).min(axis=0), known.min(axis=0))
+    hi = np.maximum((points + radius).max(axis=0), known.max(axis=0))
     # MuJoCo's mean body size and mass, less the outside's body (massless; its size the
     # farthest reach of its geoms from it).
     stat, others = model.stat, model.nbody - 2

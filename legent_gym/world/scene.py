@@ -44,8 +44,9 @@ SCENE_FORMAT: Final = "legent_gym.scene"
 SCENE_VERSION: Final = 1
 
 #: Object kinds: ``static`` never moves (furniture); ``interactable`` is a free body under
-#: gravity that the agent can pick up.
-ObjectKind = Literal["static", "interactable"]
+#: gravity that the agent can pick up; ``covering`` lies flat on the floor and never moves
+#: (a rug): drawn, walked over, and colliding with nothing, so it blocks no floor.
+ObjectKind = Literal["static", "interactable", "covering"]
 
 
 class SceneError(ValueError):
@@ -213,9 +214,9 @@ class ImportedAsset(_Model):
     mass: Positive | None = None
     yaw: int = Field(default=0, description="Quarter turn about z after the import, degrees (0, 90, 180, 270): "
                                             "an annotation's turn that makes the front face +y.")
-    placement: Literal["wall", "corner", "middle", "surface", "hanging"] | None = Field(
+    placement: Literal["wall", "corner", "middle", "surface", "hanging", "floor"] | None = Field(
         default=None, description="Where generators put it: against a wall, in a corner, in the middle, on a "
-                                  "surface, hanging on a wall.")
+                                  "surface, hanging on a wall, flat on the floor (a covering).")
     receptacles: list[ImportedSurface] | None = Field(
         default=None, max_length=MAX_RECEPTACLES,
         description="Placeable surfaces (none: not a receptacle); absent: the importer finds its top.")

@@ -271,9 +271,9 @@ def test_no_task_options_leaves_every_episode_as_it_was():
     # Conditions drawn for a restricted WhereIs come from the house seed, not the env's
     # stream, so without options (or with none given) every task draws exactly as without
     # task_options: these houses and questions were recorded so (the house seeds before
-    # task_options existed; the questions again at GENERATOR_VERSION 4, whose houses hold
+    # task_options existed; the questions again at GENERATOR_VERSION 5, whose houses hold
     # other objects).
-    recorded = {("WhereIs", 3): (1742692731, "Where is the tablet?"), ("WhereIs", 8): (1545220601, "Where's the vase?"),
+    recorded = {("WhereIs", 3): (1742692731, "Where is the laptop?"), ("WhereIs", 8): (1545220601, "Where is the toy?"),
                 ("ComeHere", 8): (1545220601, "Come to me.")}
     for (task, seed), expected in recorded.items():
         for options in (None, {}):

@@ -417,9 +417,10 @@ def test_wander_walks_and_is_seeded():
 
 
 def test_walk_away_and_come_towards():
-    away, _ = _episode(ma.WalkAway(speed=0.5), seed=0, task="PickUp")
+    # A house where the user starts far enough from its walls to walk 2 m further away.
+    away, _ = _episode(ma.WalkAway(speed=0.5), seed=1, task="PickUp")
     assert _dist(away[-1]) > _dist(away[0]) + 2.0
-    near, _ = _episode(ma.ComeTowards(speed=0.5, stop_distance=1.0), seed=0, task="PickUp", steps=40)
+    near, _ = _episode(ma.ComeTowards(speed=0.5, stop_distance=1.0), seed=1, task="PickUp", steps=40)
     assert _dist(near[-1]) < 1.6 < _dist(near[0])
 
 

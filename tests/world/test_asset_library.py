@@ -16,7 +16,7 @@ import legent_gym.world.assets  # noqa: F401  (registers the library)
 from legent_gym.world.assets import registry
 from legent_gym.world.assets.library.common import MATERIALS, ROOM_TYPES
 from legent_gym.world.assets.model import AssetModel, Part, Placement
-from tests.world import sizes_appliances, sizes_bath_decor, sizes_living
+from tests.world import sizes_appliances, sizes_bath_decor, sizes_fittings, sizes_living
 from tests.world.sizes_decor import SIZES as DECOR_SIZES
 from tests.world.sizes_kitchenware import SIZES as KITCHENWARE_SIZES
 from tests.world.sizes_office_bath import SIZES as OFFICE_BATH_SIZES
@@ -50,6 +50,7 @@ FURNITURE = {
     **sizes_appliances.SIZES,
     **sizes_living.SIZES,
     **sizes_bath_decor.SIZES,
+    **sizes_fittings.SIZES,
 }
 OBJECTS = {
     "apple": ((0.06, 0.06, 0.055), (0.095, 0.095, 0.1)),

@@ -266,7 +266,7 @@ def test_the_scripted_user_walks_and_looks_at_the_agent_when_spoken_to():
 
     for partner in ("still", "wander"):
         env = SingleAgentEnv(ma.parallel_env(task="ComeHere", layout="TwoRoom", width=32, height=32), partner=partner)
-        env.reset(seed=3)
+        env.reset(seed=5)  # a house where the wandering user does not reach the agent in these steps
         ctx = env.episode.require()
         user, agent = ctx.user, ctx.agent
         user.place(*user.xy, (math.degrees(math.atan2(agent.xy[1] - user.xy[1], agent.xy[0] - user.xy[0])) + 180))

@@ -20,8 +20,9 @@ from typing import Literal
 import numpy as np
 
 #: Where generators put an asset: against a wall, in a corner, in the middle of a room, on a
-#: surface, or hanging on a wall above the floor (a picture: it blocks no floor).
-Placement = Literal["wall", "corner", "middle", "surface", "hanging"]
+#: surface, hanging on a wall above the floor (a picture: it blocks no floor), or flat on the
+#: floor as a covering people walk over (a rug: a scene object of kind ``covering``).
+Placement = Literal["wall", "corner", "middle", "surface", "hanging", "floor"]
 #: A part's collision shape (see :attr:`Part.collision`).
 Collision = Literal["box", "hull", "none"]
 

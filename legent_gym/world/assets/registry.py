@@ -97,9 +97,15 @@ def variant_rng(asset_id: str, variant: int) -> np.random.Generator:
     return np.random.default_rng([zlib.crc32(asset_id.encode()), int(variant)])
 
 
-#: Variants 0..VARIANTS-1 (those the house generator draws) of a built-in asset get
-#: :func:`variant_rng`'s generator from a table of seeds made once per asset.
+#: Variants 0..VARIANTS-1 of a built-in asset get :func:`variant_rng`'s generator from a
+#: table of seeds made once per asset.
 VARIANTS = 1000
+#: The variants the house generator draws for an asset type: 0..GENERATED_VARIANTS-1, each
+#: a different look (shape, proportions, parts, colours, materials). About 110 types give
+#: some 3,500 distinct objects (ProcTHOR draws from 1,633 assets), few enough that a process
+#: making house after house keeps every model it made (:data:`MODELS_KEPT`) and soon makes
+#: none: a house costs its placement, not its models.
+GENERATED_VARIANTS = 32
 _SEEDS: dict[str, np.ndarray] = {}
 
 
@@ -161,11 +167,10 @@ def _builtin_rng(asset_id: str, variant: int) -> np.random.Generator:
     return np.random.Generator(np.random.PCG64(_Seeded(table[variant])))  # type: ignore[arg-type]
 
 
-#: Models :func:`make` keeps. A generated house asks for about 100 models, 25 of them
-#: distinct, and draws variants from a thousand per asset, so nearly every repeat is within
-#: one house: over 200 new TwoRoom houses, 72% of the calls hit with 256 kept and 76% with
-#: 4,096, which with their link geometry held about 30 MiB more (docs/performance.md, "Memory per env process").
-MODELS_KEPT = 256
+#: Models :func:`make` keeps: every variant the house generator draws of every built-in
+#: type (:data:`GENERATED_VARIANTS` each, and the shelved books' wider range), with room to
+#: spare, about 5 KiB of geometry each (docs/performance.md, "Long runs and memory").
+MODELS_KEPT = 4096
 
 
 @lru_cache(maxsize=MODELS_KEPT)

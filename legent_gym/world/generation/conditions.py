@@ -157,7 +157,7 @@ class HouseSpec(BaseModel):
     require: list[str] = Field(default_factory=list)
     require_on: list[tuple[str, str]] = Field(default_factory=list)
     object_counts: dict[str, int] = Field(default_factory=dict)
-    density: float = Field(default=1.0, ge=0.0)
+    density: float = Field(default=2.0, ge=0.0)
     max_per_surface: int = Field(default=3, ge=0)
     min_user_distance: float = Field(default=1.5, ge=0.0)
     user: bool = True

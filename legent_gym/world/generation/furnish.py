@@ -102,7 +102,7 @@ ROOM_FURNITURE: dict[str, tuple[list[Rule], list[Rule]]] = {
     "bedroom": (
         [Rule("bed", group="bed")],
         [Rule("wardrobe", 0.55), Rule("dresser", 0.5), Rule("desk", 0.25, group="desk"),
-         Rule("plant", 0.35), Rule("floor_lamp", 0.3), Rule("bookshelf", 0.2), Rule("armchair", 0.2),
+         Rule("plant", 0.35), Rule("floor_lamp", 0.3), Rule("bookshelf", 0.35), Rule("armchair", 0.2),
          Rule("tv_stand", 0.15, group="tv"), Rule("side_table", 0.15), Rule("sofa", 0.1), Rule("chair", 0.1),
          Rule("chest", 0.2), Rule("standing_mirror", 0.15), Rule("laundry_hamper", 0.15), Rule("radiator", 0.1),
          Rule("ottoman", 0.1), Rule("floor_fan", 0.08)],
@@ -110,7 +110,7 @@ ROOM_FURNITURE: dict[str, tuple[list[Rule], list[Rule]]] = {
     "living_room": (
         [Rule("sofa", group="sofa")],
         [Rule("tv_stand", 0.8, group="tv"), Rule("armchair", 0.6, (1, 2)), Rule("fireplace", 0.2),
-         Rule("bookshelf", 0.4), Rule("plant", 0.6, (1, 2)), Rule("floor_lamp", 0.4), Rule("side_table", 0.4),
+         Rule("bookshelf", 0.65), Rule("plant", 0.6, (1, 2)), Rule("floor_lamp", 0.4), Rule("side_table", 0.4),
          Rule("ottoman", 0.3), Rule("sideboard", 0.2), Rule("dining_table", 0.15, group="dining"),
          Rule("dresser", 0.15), Rule("desk", 0.1, group="desk"), Rule("piano", 0.08), Rule("aquarium", 0.08),
          Rule("storage_cabinet", 0.15), Rule("console_table", 0.15), Rule("radiator", 0.2), Rule("trash_can", 0.1),
@@ -229,6 +229,8 @@ class Placed:
     support: int | None = None  #: index (in the house's list) of the piece it stands on
     receptacle: int | None = None  #: which receptacle of the support
     required: bool = False
+    #: The scene object's scale: a dressing piece stretched to fit (a rug, a wall cabinet).
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
 
     @property
     def yaw_deg(self) -> float:
@@ -240,8 +242,14 @@ class Placed:
 
     @property
     def on_floor(self) -> bool:
-        """Standing on the floor: neither on another piece nor hung on a wall."""
-        return self.support is None and self.z < HANGING_HEIGHT
+        """Standing on the floor: neither on another piece, nor hung on a wall, nor a covering
+        lying flat on it (a rug blocks no floor)."""
+        return self.support is None and self.z < HANGING_HEIGHT and self.model.placement != "floor"
+
+    @property
+    def hanging(self) -> bool:
+        """Hung on a wall above the floor (a picture, a wall cabinet)."""
+        return self.support is None and self.z >= HANGING_HEIGHT
 
 
 @dataclass
@@ -533,7 +541,7 @@ class Furnisher:
     def pick(self, category: str) -> tuple[str, int, AssetModel]:
         ids = self.catalog.by_category[category]
         asset = ids[int(self.rng.integers(len(ids)))]
-        variant = int(self.rng.integers(1000))
+        variant = int(self.rng.integers(registry.GENERATED_VARIANTS))
         return asset, variant, registry.make(asset, variant)
 
     def count(self, category: str) -> int:
@@ -666,7 +674,7 @@ class Furnisher:
         blocked = [space.keepouts, space.windows[:, :4].reshape(-1, 4)]
         blocked += [np.array([[min(h[0], t[0]), min(h[1], t[1]), max(h[0], t[0]), max(h[1], t[1])]])
                     for h, t in space.leaves]
-        hung = [self.pieces[k] for k in space.pieces if self.pieces[k].support is None and not self.pieces[k].on_floor]
+        hung = [self.pieces[k] for k in space.pieces if self.pieces[k].hanging]
         if hung:
             blocked.append(np.array([p.rect for p in hung]))
         keep &= ~overlap_matrix(apart, np.concatenate(blocked)).any(axis=1)
@@ -998,7 +1006,7 @@ def _extra_rules(catalog: Catalog, rtype: str) -> list[Rule]:
         if cat in known or not catalog.is_furniture(cat):
             continue
         model = catalog.describe(cat)
-        if model.placement not in ("surface", "hanging") and rtype in model.rooms:
+        if model.placement not in ("surface", "hanging", "floor") and rtype in model.rooms:
             out.append(Rule(cat, EXTRA_CATEGORY_P))
     return out
 

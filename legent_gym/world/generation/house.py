@@ -24,6 +24,7 @@ from legent_gym.world.generation.conditions import (
     make_spec,
     normalise_name,
 )
+from legent_gym.world.generation.dressing import dress_house
 from legent_gym.world.generation.floorplan import (
     FloorPlan,
     PlanFailed,
@@ -60,7 +61,7 @@ from legent_gym.world.navigation import (
     NavGrid,
     clearance_at_least,
 )
-from legent_gym.world.scene import ObjectInstance, Room, Scene, Spawn
+from legent_gym.world.scene import ObjectInstance, ObjectKind, Room, Scene, Spawn
 
 #: The version of the houses a seed gives: it changes whenever the same seed and conditions
 #: give another house (docs/generation.md lists what changed); anything that stores houses
@@ -68,8 +69,11 @@ from legent_gym.world.scene import ObjectInstance, Room, Scene, Spawn
 #: office and bathroom things) on the surfaces that plausibly hold them. 3: 105 asset types
 #: (34 more pieces of furniture, appliances and fixtures) furnishing rooms by type, and
 #: appliances on kitchen counters. 4: pictures hung on walls (``WALL_DECOR``), and doors and
-#: drawers that open on kitchen counters, desks, sideboards and tv stands.
-GENERATOR_VERSION = 4
+#: drawers that open on kitchen counters, desks, sideboards and tv stands. 5: set dressing
+#: (``dressing``: rows of books on shelves, rugs and mats, wall cabinets and hoods, curtains,
+#: cushions), 32 variants per asset type (``registry.GENERATED_VARIANTS``), and small
+#: objects at a density of 2 per surface.
+GENERATOR_VERSION = 5
 #: Extra clearance (beyond the agent radius) preferred around spawn points, metres.
 SPAWN_CLEARANCE = 0.15
 #: How far the agent reaches from where it stands (the validity check's reach).
@@ -295,20 +299,27 @@ def _furniture(fp: FloorPlan, pieces: list[Placed]) -> tuple[list[ObjectInstance
     """Furniture ordered by room (then placement), ids 0..N-1; and each piece's id."""
     order = sorted(range(len(pieces)), key=lambda k: (pieces[k].room, k))
     new_id = {k: i for i, k in enumerate(order)}
-    out = []
-    for k in order:
-        p = pieces[k]
-        out.append(ObjectInstance(
-            id=new_id[k], asset=p.asset, variant=p.variant, position=(r4(p.x), r4(p.y), r4(p.z)),
-            rotation=(0.0, 0.0, r4(p.yaw_deg)), kind="interactable" if p.model.pickupable else "static",
-            on=None if p.support is None else new_id[p.support], room=fp.room_ids[p.room]))
-    return out, new_id
+    return [_piece_object(fp, pieces[k], new_id[k], new_id) for k in order], new_id
+
+
+def _piece_object(fp: FloorPlan, p: Placed, ident: int, new_id: dict[int, int]) -> ObjectInstance:
+    """The scene object of a placed piece, ``new_id`` giving the ids of the pieces before it."""
+    kind: ObjectKind = "interactable" if p.model.pickupable else ("covering" if p.model.placement == "floor" else "static")
+    return ObjectInstance(
+        id=ident, asset=p.asset, variant=p.variant, position=(r4(p.x), r4(p.y), r4(p.z)),
+        rotation=(0.0, 0.0, r4(p.yaw_deg)), scale=p.scale, kind=kind,
+        on=None if p.support is None else new_id[p.support], room=fp.room_ids[p.room])
 
 
 def _objects(fp: FloorPlan, pieces: list[Placed], furniture: tuple[list[ObjectInstance], dict[int, int]],
              small: list[SmallPlaced]) -> list[ObjectInstance]:
-    """The furniture (:func:`_furniture`'s, the same instances), then the small objects."""
-    out, new_id = list(furniture[0]), furniture[1]
+    """The furniture (:func:`_furniture`'s, the same instances), the pieces added after it
+    (the set dressing: :mod:`legent_gym.world.generation.dressing`), then the small objects."""
+    out, new_id = list(furniture[0]), dict(furniture[1])
+    for k in range(len(pieces)):
+        if k not in new_id:
+            new_id[k] = len(out)
+            out.append(_piece_object(fp, pieces[k], new_id[k], new_id))
     for s in small:
         out.append(ObjectInstance(
             id=len(out), asset=s.asset, variant=s.variant, position=(r4(s.x), r4(s.y), r4(s.z)),
@@ -425,6 +436,7 @@ def _attempt(seed: int, spec: HouseSpec, c: Conditions, catalog: Catalog,
     def reachable(piece: Placed, rec) -> bool:
         return nav.can_reach(receptacle_corners(piece, rec), REACH, component)
 
+    dress_house(furn, rng, lambda corners: nav.can_reach(corners, REACH, component))
     counts = dict(c.small_counts)
     for cat, n in c.small_least.items():
         counts.setdefault(cat, 0)

@@ -20,7 +20,6 @@ from legent_gym.world.generation.conditions import Catalog
 from legent_gym.world.generation.furnish import Placed, PlacementFailed
 from legent_gym.world.geometry import (
     QUARTER_TURNS,
-    boxes_overlap,
     local_footprint,
     rect_corners,
     turned_rect,
@@ -165,9 +164,12 @@ def _in_frame(base: Placed, item: Placed) -> np.ndarray:
 
 
 def receptacle_corners(piece: Placed, rec: Receptacle) -> np.ndarray:
-    """World corners (4, 2) of a receptacle rectangle."""
+    """World corners (4, 2) of a receptacle rectangle, where the scene puts it (the piece's
+    position rounded as the scene writes it): the very corners the house's check computes,
+    so the navigation grid answers both from one reach query."""
     c, h = np.asarray(rec.center), np.asarray(rec.half_size)
-    return rect_corners((piece.x, piece.y), (*(c - h), *(c + h)), piece.q * 90)
+    return rect_corners((round(piece.x, 4), round(piece.y, 4)), (c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1]),
+                        round(piece.yaw_deg, 4))
 
 
 class SmallObjectPlacer:
@@ -190,7 +192,7 @@ class SmallObjectPlacer:
         ids = self.catalog.by_category[category]
         for _ in range(tries):
             asset = ids[int(self.rng.integers(len(ids)))]
-            variant = int(self.rng.integers(1000))
+            variant = int(self.rng.integers(registry.GENERATED_VARIANTS))
             model = registry.make(asset, variant)
             if model.size[2] > surface.rec.clearance:
                 continue
@@ -213,12 +215,16 @@ class SmallObjectPlacer:
         pmin, pmax = c - h + margin - lo, c + h - margin - hi
         if (pmax < pmin).any():
             return None
-        for _ in range(samples):
-            p = self.rng.uniform(pmin, pmax)
-            box = np.concatenate([p + lo - OBJECT_GAP, p + hi + OBJECT_GAP])
-            if not any(boxes_overlap(box, o) for o in surface.occupied):
-                return p
-        return None
+        # All the samples at once, the first one clear of what the surface holds wins.
+        ps = self.rng.uniform(pmin, pmax, (samples, 2))
+        if not surface.occupied:
+            return ps[0]
+        boxes = np.concatenate([ps + (lo - OBJECT_GAP), ps + (hi + OBJECT_GAP)], axis=1)
+        taken = np.array(surface.occupied)
+        clear = ~((boxes[:, None, 0] < taken[None, :, 2]) & (taken[None, :, 0] < boxes[:, None, 2])
+                  & (boxes[:, None, 1] < taken[None, :, 3]) & (taken[None, :, 1] < boxes[:, None, 3])).any(axis=1)
+        free = np.flatnonzero(clear)
+        return ps[free[0]] if len(free) else None
 
     def _commit(self, surface, category, asset, variant, pos, jitter, local) -> None:
         base = self.pieces[surface.piece]
@@ -247,19 +253,23 @@ class SmallObjectPlacer:
         return False
 
     def sprinkle(self, density: float, exclude: set[str]) -> None:
-        """Random objects: per surface a binomial count with mean ``density``."""
+        """Random objects: per surface a binomial count with mean ``density`` times the share
+        of the surface that nothing stands on yet (a shelf half full of books holds half as
+        many)."""
         small = [c for c in self.catalog.categories if self.catalog.is_small(c) and c not in exclude]
         if not small or self.max == 0:
             return
         p = min(1.0, density / self.max)
         for s in self.surfaces:
-            want = int(self.rng.binomial(self.max, p)) - s.count
+            taken = sum(float((o[2] - o[0]) * (o[3] - o[1])) for o in s.occupied) / (4 * s.rec.half_size[0] * s.rec.half_size[1])
+            want = int(self.rng.binomial(self.max, p * max(0.0, 1.0 - taken))) - s.count
             options = [c for c in PLAUSIBLE.get(self.pieces[s.piece].category, tuple(small)) if c in small] or small
             for _ in range(max(0, want)):
-                # A kind too big for what is left of the surface gives way to another kind.
-                for _ in range(SPRINKLE_KINDS):
-                    if self.put(s, options[int(self.rng.integers(len(options)))], tries=2):
-                        break
+                # A kind too big for what is left of the surface gives way to another kind;
+                # when none fits, the surface is as full as it gets (a shelf of books).
+                if not any(self.put(s, options[int(self.rng.integers(len(options)))], tries=2)
+                           for _ in range(SPRINKLE_KINDS)):
+                    break
 
 
 def _yaw_matrix(deg: float) -> np.ndarray:

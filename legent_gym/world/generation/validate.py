@@ -22,6 +22,7 @@ from legent_gym.world.geometry import (
     boxes_overlap,
     door_keepout_squares,
     is_floor_furniture,
+    overlap_matrix,
     penetration,
     points_in_polygon,
     points_in_rect,
@@ -111,8 +112,46 @@ def resting_places(scene: Scene, feet: dict[int, np.ndarray]) -> dict[int, tuple
     by_id: dict[int, ObjectInstance] = {}
     for o in scene.objects:
         by_id.setdefault(o.id, o)  # the first of an id, as Scene.object finds it
-    return {obj.id: find_receptacle(scene, by_id[obj.on], obj, feet.get(obj.id))
-            for obj in scene.objects if obj.on is not None and obj.on in by_id}
+    surfaces: dict[int, list[tuple[int, float, np.ndarray]]] = {}  # a shelf of books asks for the same ones
+    out = {}
+    for obj in scene.objects:
+        if obj.on is None or obj.on not in by_id:
+            continue
+        support = by_id[obj.on]
+        if support.id not in surfaces:
+            surfaces[support.id] = receptacle_surfaces(scene, support)
+        out[obj.id] = _resting_on(surfaces[support.id], obj, feet.get(obj.id))
+    return out
+
+
+def receptacle_surfaces(scene: Scene, support: ObjectInstance) -> list[tuple[int, float, np.ndarray]]:
+    """(receptacle index, height, world corners) of each base-link receptacle of ``support``."""
+    if not registry.has(support.asset) and all(a.id != support.asset for a in scene.assets):
+        return []
+    model = scene_asset_model(scene, support.asset, support.variant)
+    s = np.asarray(support.scale)
+    out = []
+    for k, rec in enumerate(model.receptacles):
+        if rec.link != "base":
+            continue
+        c, h = np.asarray(rec.center) * s[:2], np.asarray(rec.half_size) * s[:2]
+        corners = rect_corners(support.position, (c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1]),
+                               yaw_of(support))
+        out.append((k, support.position[2] + rec.height * s[2], corners))
+    return out
+
+
+def _resting_on(surfaces: list[tuple[int, float, np.ndarray]], obj: ObjectInstance,
+                footprint: np.ndarray | None) -> tuple[int, np.ndarray] | None:
+    best = None
+    for k, top, corners in surfaces:
+        if abs(obj.position[2] - top) > 0.01:
+            continue
+        centre = footprint.mean(axis=0) if footprint is not None else np.asarray(obj.position[:2])
+        if points_in_rect(centre[None, :], corners, TOLERANCE).all():
+            return k, corners
+        best = best or (k, corners)
+    return best
 
 
 def check_objects_reachable(scene: Scene, nav: NavGrid, component: int, feet: dict[int, np.ndarray],
@@ -142,24 +181,7 @@ def find_receptacle(scene: Scene, support: ObjectInstance, obj: ObjectInstance,
                     footprint: np.ndarray | None) -> tuple[int, np.ndarray] | None:
     """(receptacle index, world corners) of the base-link receptacle of ``support`` that
     ``obj`` rests on: the one at its height holding the object's footprint centre."""
-    if not registry.has(support.asset) and all(a.id != support.asset for a in scene.assets):
-        return None
-    model = scene_asset_model(scene, support.asset, support.variant)
-    s = np.asarray(support.scale)
-    best = None
-    for k, rec in enumerate(model.receptacles):
-        if rec.link != "base":
-            continue
-        top = support.position[2] + rec.height * s[2]
-        if abs(obj.position[2] - top) > 0.01:
-            continue
-        c, h = np.asarray(rec.center) * s[:2], np.asarray(rec.half_size) * s[:2]
-        corners = rect_corners(support.position, (c[0] - h[0], c[1] - h[1], c[0] + h[0], c[1] + h[1]), yaw_of(support))
-        centre = footprint.mean(axis=0) if footprint is not None else np.asarray(obj.position[:2])
-        if points_in_rect(centre[None, :], corners, TOLERANCE).all():
-            return k, corners
-        best = best or (k, corners)
-    return best
+    return _resting_on(receptacle_surfaces(scene, support), obj, footprint)
 
 
 # ---------------------------------------------------------------------------------------
@@ -224,7 +246,14 @@ def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, s
             continue
         by_surface.setdefault((obj.on, found[0]), []).append(obj.id)
     for (host, _), members in by_surface.items():
-        for i, j in combinations(members, 2):
+        if len(members) < 2:
+            continue
+        # Only pairs whose bounding boxes overlap can interpenetrate (a row of books touches
+        # nothing but its neighbours' boxes, and those only at their gaps).
+        boxes = np.array([bounding_box(feet[i]) for i in members])
+        near = overlap_matrix(boxes, boxes)
+        for a, b in zip(*np.nonzero(np.triu(near, 1)), strict=True):
+            i, j = members[int(a)], members[int(b)]
             if penetration(feet[i], feet[j]) > TOLERANCE:
                 out.append(f"{names[i]} and {names[j]} overlap on {names[host]}")
     return out
@@ -232,8 +261,8 @@ def check_surfaces(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, s
 
 def check_inside_house(scene: Scene, feet: dict[int, np.ndarray], names: dict[int, str]) -> list[str]:
     polys = [np.asarray(r.polygon) for r in scene.rooms]
-    # Floor furniture and what hangs on walls (static, resting on nothing).
-    floor = [obj for obj in scene.objects if obj.kind == "static" and obj.on is None and obj.id in feet]
+    # Floor furniture, coverings and what hangs on walls (resting on nothing, never moving).
+    floor = [obj for obj in scene.objects if obj.kind != "interactable" and obj.on is None and obj.id in feet]
     if not floor:
         return []
     # Every footprint's corners, drawn a little in, tested against each room at once.

@@ -4,6 +4,7 @@ from legent_gym.world.assets.library import (  # noqa: F401
     appliances,
     bath_decor,
     decor,
+    fittings,
     furniture,
     kitchenware,
     living,
