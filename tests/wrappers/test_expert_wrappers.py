@@ -109,7 +109,8 @@ def test_a_held_object_hides_nothing_from_the_view_tests():
     from legent_gym.world.builder import GROUP_HOUSE, GROUP_OBJECTS
 
     env = ExpertInfo(gym.make("Legent/BringMe-OneRoom-v0", width=32, height=32))
-    _, info = env.reset(seed=0)
+    # A target on a nightstand: with one on a bookshelf the point behind it is inside the shelf.
+    _, info = env.reset(seed=1)
     ctx = env.unwrapped.episode.ctx
     while ctx.agent.state.held is None:
         _, _, terminated, truncated, info = env.step(info["expert_action"])
