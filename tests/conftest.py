@@ -2,9 +2,16 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+
+# A Ray started by a test binds and advertises the loopback interface only: Ray reads this
+# when it is imported, and any test of a worker process may import it before the one that
+# starts a cluster (legent_gym.utils.scale sets it too, but only before the first import).
+os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")
 
 import legent_gym  # noqa: F401  (sets MUJOCO_GL before mujoco is imported)
 
