@@ -202,6 +202,10 @@ def label_regions(mask: np.ndarray) -> tuple[np.ndarray, int]:
 # ---------------------------------------------------------------------------------------
 
 
+#: The most can_reach answers a grid keeps (a generated house asks about a hundred).
+REACH_MEMO_SIZE = 4096
+
+
 class NavGrid:
     """Occupancy grid of walkable floor, with shortest paths and reach queries.
 
@@ -653,6 +657,8 @@ class NavGrid:
         key = (c.tobytes(), float(reach), component)
         found = self._reach_memo.get(key)
         if found is None:
+            if len(self._reach_memo) >= REACH_MEMO_SIZE:  # objects moved about a kept house ask anew
+                self._reach_memo.clear()
             found = self._reach_memo[key] = len(self.reach_cells(c, reach, component, first_only=True)[0]) > 0
         return found
 

@@ -33,6 +33,7 @@ from legent_gym.world.generation.small_objects import open_receptacle, receptacl
 from legent_gym.world.geometry import (
     HANGING_HEIGHT,
     QUARTER_TURNS,
+    expand,
     local_footprint,
     opening_span,
     overlap_matrix,
@@ -142,7 +143,7 @@ def _world_rect(x: float, y: float, q: int, local: np.ndarray) -> np.ndarray:
 def _reach_corners(rect: np.ndarray) -> np.ndarray:
     """The corners of a footprint drawn in by a centimetre: what is within reach of them is
     within reach of the footprint however the scene rounds its position."""
-    x0, y0, x1, y1 = (float(v) for v in rect + np.array([0.01, 0.01, -0.01, -0.01]))
+    x0, y0, x1, y1 = (float(v) for v in expand(rect, -0.01))
     return np.array([[x0, y0], [x1, y0], [x1, y1], [x0, y1]])
 
 
@@ -198,7 +199,7 @@ def hang_kitchen_run(f: Furnisher, space: RoomSpace, rng: np.random.Generator,
             off = QUARTER_TURNS[base.q] @ np.array([cx, cy])
             x, y = base.x + float(off[0]), base.y + float(off[1])
             rect = _world_rect(x, y, base.q, _scaled_local(model, sx, 1.0))
-            if not _wall_free(f, space, rect, bottom) or not can_reach(_reach_corners(rect)):
+            if not _wall_free(f, space, rect) or not can_reach(_reach_corners(rect)):
                 continue
             _add(f, space, Placed(model.category, model.asset_id, variant, x, y, base.q, model, space.index,
                                   base.group, rect, None, z=round(bottom, 4), scale=(round(sx, 4), 1.0, 1.0)))
@@ -206,7 +207,7 @@ def hang_kitchen_run(f: Furnisher, space: RoomSpace, rng: np.random.Generator,
     return hung
 
 
-def _wall_free(f: Furnisher, space: RoomSpace, rect: np.ndarray, bottom: float, *, windows: bool = True) -> bool:
+def _wall_free(f: Furnisher, space: RoomSpace, rect: np.ndarray, *, windows: bool = True) -> bool:
     """No window behind a hanging piece's stretch of wall (unless ``windows`` is false), and
     nothing hung there yet."""
     if windows and len(space.windows) and overlap_matrix(rect[None, :], space.windows[:, :4]).any():
@@ -219,15 +220,23 @@ def _wall_free(f: Furnisher, space: RoomSpace, rect: np.ndarray, bottom: float, 
 # Rugs
 
 
+def _first_on_floor(f: Furnisher, space: RoomSpace, categories: tuple[str, ...]) -> Placed | None:
+    """The room's first axis-aligned floor piece of the first of ``categories`` it has."""
+    for category in categories:
+        for k in space.pieces:
+            p = f.pieces[k]
+            if p.category == category and p.on_floor and p.yaw is None:
+                return p
+    return None
+
+
 def lay_rug(f: Furnisher, space: RoomSpace, rng: np.random.Generator, under: str,
             margins: tuple[float, float]) -> bool:
     """A rug centred under the room's first piece of category ``under``, its footprint plus
     ``margins``, shrunk until it fits the room; False if there is no such piece or no fit."""
-    anchors = [k for k in space.pieces if f.pieces[k].category == under and f.pieces[k].on_floor
-               and f.pieces[k].yaw is None]
-    if not anchors:
+    base = _first_on_floor(f, space, (under,))
+    if base is None:
         return False
-    base = f.pieces[anchors[0]]
     lo = local_footprint(base.model)
     want = np.array([lo[2] - lo[0] + 2 * margins[0], lo[3] - lo[1] + 2 * margins[1]])
     # The centre: the piece's, moved toward its front by half the change in depth (a bed's
@@ -241,7 +250,7 @@ def lay_rug(f: Furnisher, space: RoomSpace, rng: np.random.Generator, under: str
     # side), then shrunk about its centre until it lies inside the room (an L's inner corner).
     off = QUARTER_TURNS[base.q] @ centre
     half = np.abs(QUARTER_TURNS[base.q]) @ (want / 2)  # world half extents
-    bb = space.bbox + np.array([RUG_WALL_GAP, RUG_WALL_GAP, -RUG_WALL_GAP, -RUG_WALL_GAP])
+    bb = expand(space.bbox, -RUG_WALL_GAP)
     c = np.array([base.x, base.y]) + off
     rect = np.clip(np.concatenate([c - half, c + half]), bb[[0, 1, 0, 1]], bb[[2, 3, 2, 3]])
     for _ in range(RUG_TRIES + 1):
@@ -249,7 +258,7 @@ def lay_rug(f: Furnisher, space: RoomSpace, rng: np.random.Generator, under: str
         local = np.abs(QUARTER_TURNS[base.q]).T @ world  # back to the piece's axes
         if (local < np.asarray(RUG_MIN)).any():
             return False
-        grown = rect + np.array([-RUG_WALL_GAP, -RUG_WALL_GAP, RUG_WALL_GAP, RUG_WALL_GAP])
+        grown = expand(rect, RUG_WALL_GAP)
         if rects_in_polygon(grown[None, :], inner)[0]:
             x, y = float((rect[0] + rect[2]) / 2), float((rect[1] + rect[3]) / 2)
             sx, sy = float(local[0] / size[0]), float(local[1] / size[1])
@@ -266,11 +275,9 @@ def lay_mat(f: Furnisher, space: RoomSpace, rng: np.random.Generator, before: tu
     """A mat on the floor in front of the room's first piece of the first category of
     ``before`` it has (a bath mat, a kitchen runner), inside the room; False if there is none
     or no fit."""
-    anchors = [k for cat in before for k in space.pieces if f.pieces[k].category == cat and f.pieces[k].on_floor
-               and f.pieces[k].yaw is None]
-    if not anchors:
+    base = _first_on_floor(f, space, before)
+    if base is None:
         return False
-    base = f.pieces[anchors[0]]
     lo = local_footprint(base.model)
     want = np.array([min((lo[2] - lo[0]) * size[0], 1.6), size[1]])
     centre = np.array([(lo[0] + lo[2]) / 2, lo[3] + 0.03 + size[1] / 2])
@@ -280,7 +287,7 @@ def lay_mat(f: Furnisher, space: RoomSpace, rng: np.random.Generator, before: tu
     off = QUARTER_TURNS[base.q] @ centre
     x, y = base.x + float(off[0]), base.y + float(off[1])
     rect = _world_rect(x, y, base.q, _scaled_local(model, sx, sy))
-    grown = rect + np.array([-RUG_WALL_GAP, -RUG_WALL_GAP, RUG_WALL_GAP, RUG_WALL_GAP])
+    grown = expand(rect, RUG_WALL_GAP)
     if not rects_in_polygon(grown[None, :], space.inner)[0]:
         return False
     _add(f, space, Placed("rug", "rug", variant, x, y, base.q, model, space.index, base.group, rect, None,
@@ -326,7 +333,7 @@ def hang_curtains(f: Furnisher, space: RoomSpace, rng: np.random.Generator,
                 continue
             if overlap_matrix(rect[None, :], np.concatenate(blocked).reshape(-1, 4)).any():
                 continue
-            if not _wall_free(f, space, rect, bottom, windows=False):
+            if not _wall_free(f, space, rect, windows=False):
                 continue
             under = [f.pieces[k] for k in space.pieces if f.pieces[k].on_floor
                      and f.pieces[k].z + f.pieces[k].height > bottom
