@@ -195,9 +195,23 @@ def _check_state(world, report: SoakReport) -> None:
             data.warning[i].number = 0  # counted once; the next count is new warnings
 
 
+def fill_model_caches() -> int:
+    """Make every model the house generator draws (each built-in type's
+    ``registry.GENERATED_VARIANTS``, the shelved books' ``BOOK_VARIANTS``) and its links'
+    merged geometry, as the builder asks for it; returns how many models."""
+    from legent_gym.world.assets import registry
+    from legent_gym.world.generation.dressing import BOOK_VARIANTS
+    from legent_gym.world.meshing import prepare_link_geometry
+
+    models = [registry.make(asset, variant) for asset in registry.asset_ids(builtin=True)
+              for variant in range(BOOK_VARIANTS if asset == "shelved_book" else registry.GENERATED_VARIANTS)]
+    prepare_link_geometry([(link, model.pickupable or link.joint is not None) for model in models for link in model.links])
+    return len(models)
+
+
 def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: int = 30, *, size: int = 96,
          samples: int = 10, seed: int = 0, house_pool: list[int] | None = None, log=None, env_id: str = ENV_ID,
-         warmup_resets: int | None = None, trim: bool = True) -> SoakReport:
+         warmup_resets: int | None = None, trim: bool = True, fill_models: bool = False) -> SoakReport:
     """Run the soak (see the module docstring) and return its report. ``house_pool``: the
     houses come from these generation seeds, in turn, rather than from a new seed each
     time, so the asset and geometry caches fill within the warm-up; with more seeds than
@@ -205,8 +219,14 @@ def soak(kind: str = "single", steps: int = 2_000, resets: int = 100, cycles: in
     still builds its house. ``warmup_resets``: the baseline is the sample taken when the
     env has reset that many times (else after a tenth of the steps). ``trim``: hand the
     free heap back at each sample (``Sample.rss_mb`` is then the memory in use); without
-    it, both figures are what the process holds, as it would hold it unsampled."""
+    it, both figures are what the process holds, as it would hold it unsampled.
+    ``fill_models``: first make every model the house generator draws, with its links'
+    geometry (:func:`fill_model_caches`), so that what grows after the baseline is not the
+    asset registry still filling up to its bound."""
     from legent_gym.utils.gl_backend import live_contexts
+
+    if fill_models:
+        fill_model_caches()
 
     rng = np.random.default_rng(seed)
     report = SoakReport(f"{kind} {env_id}")

@@ -26,7 +26,7 @@ body.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -53,19 +53,21 @@ from legent_gym.world.meshing import (
     SurfaceMesh,
     link_geometry,
     pattern_variant,
+    placed_together,
     polygon_surface,
     prepare_link_geometry,
     wall_piece_box,
     wall_pieces,
 )
-from legent_gym.world.scene import Scene, Surface, scene_base_dir
+from legent_gym.world.scene import ObjectInstance, Scene, Surface, scene_base_dir
 from legent_gym.world.styles import get_style, styled_palette
 
 #: The version of what a scene builds into: it changes whenever the same scene and options
 #: give another model (stored houses are keyed by it, :mod:`legent_gym.envs.house_store`).
 #: 2: patterned materials (the atlas, patterned floors and walls), ceiling lamps, and doors
-#: and drawers on kitchen counters, desks, sideboards and tv stands.
-BUILD_VERSION = 2
+#: and drawers on kitchen counters, desks, sideboards and tv stands. 3: set dressing drawn
+#: in the mesh of the piece it rests on.
+BUILD_VERSION = 3
 
 GROUP_HOUSE, GROUP_OBJECTS, GROUP_CEILING, GROUP_COLLISION, GROUP_AGENT, GROUP_USER = range(6)
 #: The agent's hands share the ceilings' group: every head camera shows it and no view ray
@@ -230,6 +232,13 @@ def euler_deg_quat(rotation) -> np.ndarray:
     return quat
 
 
+def _rotation(rotation) -> np.ndarray:
+    """The 3x3 matrix of a scene object's rotation (degrees, as :func:`euler_deg_quat`)."""
+    mat = np.empty(9)
+    mujoco.mju_quat2Mat(mat, euler_deg_quat(rotation))
+    return mat.reshape(3, 3)
+
+
 class SceneBuildError(ValueError):
     """A valid scene that MuJoCo cannot build (e.g. a degenerate imported mesh)."""
 
@@ -264,8 +273,10 @@ class _SpecBuilder:
         # The links' merged meshes and collision shapes, for all objects at once.
         prepare_link_geometry([(link, obj.kind == "interactable" or link.joint is not None)
                                for obj, asset in zip(self.scene.objects, assets) for link in asset.links])
+        riders = self._riders(assets)
+        ridden = {rider.id for group in riders.values() for rider, _ in group}
         for obj, asset in zip(self.scene.objects, assets):
-            self._add_object(obj, asset)
+            self._add_object(obj, asset, riders.get(obj.id, ()), drawn=obj.id not in ridden)
         self._add_avatar("agent", self.options.agent, GROUP_AGENT)
         self._add_avatar("user", self.options.user, GROUP_USER)
         if self.options.with_outside:
@@ -417,17 +428,23 @@ class _SpecBuilder:
                       contype=0, conaffinity=0, group=group, density=0, name=name)
 
     def _link_geoms(self, body, link: Link, *, group: int, name: str, movable: bool,
-                    friction=(1.0, 0.005, 0.0001), cache: bool = True) -> None:
-        """Visual and collision geoms of one link."""
+                    friction=(1.0, 0.005, 0.0001), cache: bool = True, drawn: bool = True,
+                    with_meshes: list[tuple[ColouredMesh, np.ndarray]] | None = None) -> None:
+        """Visual and collision geoms of one link; ``with_meshes``: more meshes (in the body's
+        frame) drawn in its mesh geom; ``drawn=False``: collision geoms only."""
         geometry = link_geometry(link, movable, cache=cache)
         if self.options.naive:
             for i, part in enumerate(link.parts):
                 self._plain_geom(body, part, group=group, name=f"{name}_{i}")
-        else:
+        elif drawn:
             for i, part in enumerate(geometry.textured):
                 self._textured_geom(body, part, group=group, name=f"{name}_tex{i}")
-            if geometry.mesh is not None:
-                self._mesh_geom(body, geometry.mesh, group=group, name=name)
+            mesh = geometry.mesh
+            if with_meshes:
+                own: list[tuple[ColouredMesh, np.ndarray | None]] = [(mesh, None)] if mesh is not None else []
+                mesh = placed_together(own + list(with_meshes))
+            if mesh is not None:
+                self._mesh_geom(body, mesh, group=group, name=name)
         self._collision_geoms(body, geometry.collision, name=name, friction=friction)
 
     def _collision_geoms(self, body, shapes, *, name: str, friction) -> None:
@@ -587,7 +604,43 @@ class _SpecBuilder:
             model = registry.make(obj.asset, obj.variant)
         return model.scaled(obj.scale)
 
-    def _add_object(self, obj, asset: AssetModel) -> None:
+    def _riders(self, assets: list[AssetModel]) -> dict[int, list[tuple[ObjectInstance, AssetModel]]]:
+        """Set dressing drawn with the piece it rests on (:attr:`AssetModel.drawn_with_support`),
+        by that piece's id: a static object of one plain link on a static piece. A shelf of
+        books is then one draw, not one per book (and one mesh to build)."""
+        if self.options.naive:
+            return {}
+        objects = {obj.id: (obj, asset) for obj, asset in zip(self.scene.objects, assets)}
+        out: dict[int, list[tuple[ObjectInstance, AssetModel]]] = {}
+        for obj, asset in objects.values():
+            support = objects.get(obj.on) if obj.on is not None else None
+            if (obj.on is not None and asset.drawn_with_support and obj.kind == "static" and support is not None
+                    and support[0].kind == "static" and len(asset.links) == 1 and asset.links[0].joint is None
+                    and not any(asset.links[0].pos) and not any(p.texture is not None for p in asset.links[0].parts)):
+                out.setdefault(obj.on, []).append((obj, asset))
+        return out
+
+    def _rider_meshes(self, support: ObjectInstance,
+                      riders: Sequence[tuple[ObjectInstance, AssetModel]]) -> list[tuple[ColouredMesh, np.ndarray]]:
+        """Each rider's visual mesh with its transform into the support's body frame."""
+        to_support = np.eye(4)
+        to_support[:3, :3] = _rotation(support.rotation).T
+        to_support[:3, 3] = -to_support[:3, :3] @ np.asarray(support.position, dtype=np.float64)
+        out = []
+        for rider, asset in riders:
+            mesh = link_geometry(asset.links[0], False).mesh
+            if mesh is None:
+                continue
+            placed = np.eye(4)
+            placed[:3, :3] = _rotation(rider.rotation)
+            placed[:3, 3] = rider.position
+            out.append((mesh, to_support @ placed))
+        return out
+
+    def _add_object(self, obj: ObjectInstance, asset: AssetModel,
+                    riders: Sequence[tuple[ObjectInstance, AssetModel]] = (), *, drawn: bool = True) -> None:
+        """One scene object: its body, joints and geoms. ``riders``: the set dressing drawn
+        with it (see :meth:`_riders`); ``drawn=False``: a rider, which gets no visual geom."""
         self.assets[obj.id] = asset
         interactable = obj.kind == "interactable"
         body = self.spec.worldbody.add_body(name=f"obj_{obj.id}", pos=list(obj.position),
@@ -618,8 +671,10 @@ class _SpecBuilder:
             elif any(abs(c) > 0 for c in link.pos):
                 target = body.add_body(name=f"obj_{obj.id}_{link.name}", pos=list(link.pos))
             friction = (1.2, 0.01, 0.001) if interactable else (1.0, 0.005, 0.0001)
+            with_meshes = self._rider_meshes(obj, riders) if riders and target is body else []
             self._link_geoms(target, link, group=group, name=f"obj_{obj.id}_{link.name}",
-                             movable=interactable or link.joint is not None, friction=friction)
+                             movable=interactable or link.joint is not None, friction=friction,
+                             drawn=drawn, with_meshes=with_meshes)
 
     # -- avatars and lights ------------------------------------------------------------
     def _add_avatar(self, name: str, opts: BodyOptions, group: int) -> None:
@@ -744,11 +799,18 @@ def _surface_pattern(surface: Surface) -> str | None:
     return pattern if pattern in SURFACE_TEXTURE_PATTERNS else None
 
 
-@lru_cache(maxsize=1024)
+#: [0, 0, 0, 1, 1, 1, ...] for the most faces asked for yet (see :func:`_each_thrice`).
+_THRICE: list[int] = []
+
+
 def _each_thrice(n: int) -> list[int]:
-    """[0, 0, 0, 1, 1, 1, ..., n-1]: a flat-shaded mesh's per-corner normal indices (a
-    shared list: MuJoCo copies it)."""
-    return np.repeat(np.arange(n), 3).tolist()
+    """[0, 0, 0, 1, 1, 1, ..., n-1]: a flat-shaded mesh's per-corner normal indices, a slice
+    of one list kept for the largest mesh yet (its int objects shared). A list per face
+    count, cached, held a new one for almost every merged mesh of every house."""
+    global _THRICE
+    if len(_THRICE) < 3 * n:
+        _THRICE = np.repeat(np.arange(max(n, 2 * len(_THRICE) // 3)), 3).tolist()
+    return _THRICE[:3 * n]
 
 
 # Avatars and door leaves are the same few shapes in every house: one Link object per shape,

@@ -285,6 +285,37 @@ class MeshAccumulator:
         return ColouredMesh(v, f, face_normals(v, f), np.concatenate(self._colours))
 
 
+def placed_together(meshes: Sequence[tuple[ColouredMesh, np.ndarray | None]]) -> ColouredMesh:
+    """Meshes, each moved by a rigid 4x4 transform (None: where it is), as one mesh: a piece
+    and the set dressing drawn with it, one draw for all. Faces keep their colours, patterns
+    and tile coordinates; a rotation keeps their winding."""
+    verts, faces, normals, rgb = [], [], [], []
+    patterns: list[np.ndarray] = []
+    uvs: list[np.ndarray] = []
+    patterned = any(mesh.face_pattern is not None for mesh, _ in meshes)
+    offset = 0
+    for mesh, matrix in meshes:
+        if matrix is None:
+            verts.append(mesh.vertices)
+            normals.append(mesh.normals)
+        else:
+            verts.append(mesh.vertices @ matrix[:3, :3].T + matrix[:3, 3])
+            normals.append(mesh.normals @ matrix[:3, :3].T)
+        faces.append(mesh.faces + np.int32(offset))
+        offset += len(mesh.vertices)
+        rgb.append(mesh.face_rgb)
+        if patterned:
+            if mesh.face_pattern is None or mesh.face_uv is None:
+                patterns.append(np.full(mesh.n_faces, -1, dtype=np.int8))
+                uvs.append(np.zeros((mesh.n_faces, 3, 2), dtype=np.float32))
+            else:
+                patterns.append(mesh.face_pattern)
+                uvs.append(mesh.face_uv)
+    return ColouredMesh(np.concatenate(verts), np.concatenate(faces), np.concatenate(normals), np.concatenate(rgb),
+                        face_pattern=np.concatenate(patterns) if patterned else None,
+                        face_uv=np.concatenate(uvs) if patterned else None)
+
+
 @dataclass(frozen=True)
 class SurfaceMesh:
     """Floor or wall triangles of one patterned surface: its texture repeats, each vertex's

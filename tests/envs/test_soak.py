@@ -134,13 +134,14 @@ def test_models_kept_bounded():
 
 def test_short_soak_two_rooms_flat():
     """TwoRoom at 96 x 96, a new generated house at every reset, nothing trimmed by the run:
-    after 60 resets (the asset caches filled) the resident memory the process holds grows
-    by less than TRIM_GROWTH + 8 MiB over the next 100 houses. The env hands free heap
+    with every model the generator draws made first and after 60 resets (the caches filled)
+    the resident memory the process holds grows by less than TRIM_GROWTH + 8 MiB over the
+    next 100 houses. The env hands free heap
     pages back only once it has grown by TRIM_GROWTH (legent_gym.utils.heap), so what it
     holds swings by up to that much between two samples; caches that keep past houses'
     models and geometry, or a heap that keeps their pages, grow by more."""
     report = soak("single", steps=320, resets=160, cycles=0, samples=4, env_id="Legent/ComeHere-TwoRoom-v0",
-                  warmup_resets=60, trim=False)
+                  warmup_resets=60, trim=False, fill_models=True)
     text = "\n".join(report.lines())
     assert report.resets >= 160 and report.samples[report.baseline].resets >= 60, text
     assert report.untrimmed_growth_mb < heap.TRIM_GROWTH / 2**20 + 8.0, text

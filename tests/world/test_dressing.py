@@ -131,3 +131,65 @@ def test_a_hundred_houses_show_three_times_the_looks_and_ninety_types():
         types |= {o.asset for o in scene.objects}
     assert len(types) >= 90
     assert statistics.fmean(looks) >= 3 * LOOKS_BEFORE
+
+
+def test_books_and_cushions_are_drawn_with_the_piece_they_rest_on(houses):
+    """A shelf and its books are one mesh geom (one draw); each book keeps its body and its
+    collision box; images and segmentation show the books as the shelf."""
+    import mujoco
+
+    from legent_gym.world.builder import GROUP_COLLISION, build_world
+    from legent_gym.world.meshing import link_geometry
+    from legent_gym.world.render import FreeCamera, Renderer
+
+    scene = next(s for s in houses if sum(o.asset == "shelved_book" for o in s.objects) >= 10)
+    world = build_world(scene)
+    model = world.model
+    riders = [o for o in scene.objects if o.asset in ("shelved_book", "cushion")]
+    rider_ids = {o.id for o in riders}
+    drawn = model.geom_group != GROUP_COLLISION
+    assert not np.isin(world.geom_object[drawn], list(rider_ids)).any()
+    for o in riders:
+        assert world.object_body[o.id] >= 0
+        own = np.flatnonzero(world.geom_object == o.id)
+        assert len(own) and (model.geom_group[own] == GROUP_COLLISION).all()
+    # The support's mesh holds its own triangles and those of everything drawn with it.
+    host = scene.object(max(rider_ids, key=lambda i: sum(o.on == scene.object(i).on for o in riders)))
+    host = scene.object(host.on)
+    mesh_geoms = [g for g in np.flatnonzero(world.geom_object == host.id) if drawn[g]
+                  and model.geom_type[g] == mujoco.mjtGeom.mjGEOM_MESH]
+    faces = sum(int(model.mesh_facenum[model.geom_dataid[g]]) for g in mesh_geoms)
+    own_faces = link_geometry(world.assets[host.id].base, False).mesh.n_faces
+    rider_faces = sum(link_geometry(world.assets[o.id].base, False).mesh.n_faces for o in riders if o.on == host.id)
+    assert rider_faces > 0 and faces == own_faces + rider_faces
+    # Looking at the shelf: its books are drawn (the view differs from the same house without
+    # them), and segmentation gives the shelf where they are, never a book.
+    # (A free camera looks along its azimuth; the shelf's front faces its yaw + 90 degrees.)
+    camera = FreeCamera(lookat=(host.position[0], host.position[1], 0.9), distance=2.0,
+                        azimuth=host.rotation[2] - 90.0, elevation=-5.0)
+    bare = scene.model_copy(update={"objects": [o for o in scene.objects if o.on != host.id or o.id not in rider_ids]})
+    with_books, without = Renderer(world, 96, 96), Renderer(build_world(bare), 96, 96)
+    seg = with_books.segmentation(camera)
+    assert host.id in seg and not np.isin(seg, list(rider_ids)).any()
+    changed = np.abs(with_books.rgb(camera).astype(int) - without.rgb(camera).astype(int)).max(axis=2) > 30
+    assert changed.mean() > 0.01
+
+
+def test_meshes_placed_together_keep_each_face_where_and_as_it_was():
+    from legent_gym.world.builder import _rotation
+    from legent_gym.world.meshing import link_geometry, placed_together
+
+    book = link_geometry(registry.make("shelved_book", 3).base, False).mesh
+    shelf = link_geometry(registry.make("bookshelf", 1).base, False).mesh
+    matrix = np.eye(4)
+    matrix[:3, :3], matrix[:3, 3] = _rotation((0.0, 0.0, 90.0)), (0.3, -0.1, 0.8)
+    both = placed_together([(shelf, None), (book, matrix)])
+    n = len(shelf.vertices)
+    assert np.array_equal(both.vertices[:n], shelf.vertices)
+    assert np.allclose(both.vertices[n:], book.vertices @ matrix[:3, :3].T + matrix[:3, 3])
+    assert np.array_equal(both.faces[shelf.n_faces:] - n, book.faces)
+    assert np.allclose(both.normals[shelf.n_faces:], book.normals @ matrix[:3, :3].T)
+    assert np.array_equal(both.face_rgb, np.concatenate([shelf.face_rgb, book.face_rgb]))
+    for mesh, part in ((shelf, both.face_pattern[:shelf.n_faces]), (book, both.face_pattern[shelf.n_faces:])):
+        expected = mesh.face_pattern if mesh.face_pattern is not None else np.full(mesh.n_faces, -1)
+        assert np.array_equal(part, expected)

@@ -136,6 +136,11 @@ class AssetModel:
     placement: Placement = "wall"
     #: Extra free space needed in front of the asset (to use it: sit, open a door).
     front_clearance: float = 0.5
+    #: Set dressing (books on a shelf, cushions on a sofa): a static object of this asset
+    #: resting on a static piece is drawn as part of that piece's mesh, one draw for both;
+    #: images, segmentation and view rays show it as that piece, and it keeps its own body
+    #: and collision shapes (the builder's ``_riders``).
+    drawn_with_support: bool = False
 
     def __post_init__(self) -> None:
         if not self.names:
@@ -205,7 +210,7 @@ class AssetModel:
                            r.clearance * s[2]) for r in self.receptacles]
         return AssetModel(self.asset_id, self.category, links, list(self.names), recs, self.pickupable,
                           self.mass * float(np.prod(s)), list(self.rooms), self.placement,
-                          self.front_clearance)
+                          self.front_clearance, self.drawn_with_support)
 
 
 # ---------------------------------------------------------------------------------------

@@ -83,7 +83,7 @@ def make_shelved_book(rng: np.random.Generator) -> AssetModel:
                            material, collision="none"))
     return finish("shelved_book", parts, names=["shelved book", "book on a shelf"],
                   rooms=["living_room", "office", "bedroom", "dining_room", "hallway"], placement="surface",
-                  mass=round(float(t * d * h * 700.0), 4), front_clearance=0.0)
+                  mass=round(float(t * d * h * 700.0), 4), front_clearance=0.0, drawn_with_support=True)
 
 
 def make_rug(rng: np.random.Generator) -> AssetModel:
@@ -215,7 +215,8 @@ def make_cushion(rng: np.random.Generator) -> AssetModel:
                                "fabric", collision="none"))
     return finish("cushion", parts, names=["cushion", "throw cushion", "scatter cushion"],
                   rooms=["living_room", "bedroom", "office"], placement="surface",
-                  mass=round(float(width * height * t * 60.0), 3), front_clearance=0.0)
+                  mass=round(float(width * height * t * 60.0), 3), front_clearance=0.0,
+                  drawn_with_support=True)
 
 
 FACTORIES = {"shelved_book": make_shelved_book, "rug": make_rug, "wall_cabinet": make_wall_cabinet,
