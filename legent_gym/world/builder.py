@@ -606,8 +606,9 @@ class _SpecBuilder:
 
     def _riders(self, assets: list[AssetModel]) -> dict[int, list[tuple[ObjectInstance, AssetModel]]]:
         """Set dressing drawn with the piece it rests on (:attr:`AssetModel.drawn_with_support`),
-        by that piece's id: a static object of one plain link on a static piece. A shelf of
-        books is then one draw, not one per book (and one mesh to build)."""
+        by that piece's id: a static object of one plain link on a static piece that is not
+        set dressing itself, drawn in that piece's base link. A shelf of books is then one
+        draw, not one per book (and one mesh to build)."""
         if self.options.naive:
             return {}
         objects = {obj.id: (obj, asset) for obj, asset in zip(self.scene.objects, assets)}
@@ -615,7 +616,8 @@ class _SpecBuilder:
         for obj, asset in objects.values():
             support = objects.get(obj.on) if obj.on is not None else None
             if (obj.on is not None and asset.drawn_with_support and obj.kind == "static" and support is not None
-                    and support[0].kind == "static" and len(asset.links) == 1 and asset.links[0].joint is None
+                    and support[0].kind == "static" and not support[1].drawn_with_support
+                    and len(asset.links) == 1 and asset.links[0].joint is None
                     and not any(asset.links[0].pos) and not any(p.texture is not None for p in asset.links[0].parts)):
                 out.setdefault(obj.on, []).append((obj, asset))
         return out
@@ -671,7 +673,7 @@ class _SpecBuilder:
             elif any(abs(c) > 0 for c in link.pos):
                 target = body.add_body(name=f"obj_{obj.id}_{link.name}", pos=list(link.pos))
             friction = (1.2, 0.01, 0.001) if interactable else (1.0, 0.005, 0.0001)
-            with_meshes = self._rider_meshes(obj, riders) if riders and target is body else []
+            with_meshes = self._rider_meshes(obj, riders) if riders and link.name == "base" and target is body else []
             self._link_geoms(target, link, group=group, name=f"obj_{obj.id}_{link.name}",
                              movable=interactable or link.joint is not None, friction=friction,
                              drawn=drawn, with_meshes=with_meshes)

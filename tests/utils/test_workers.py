@@ -124,6 +124,12 @@ def _pid_file_then_sleep(folder: str, i: int) -> None:
 def _start_sleepers(tmp_path: Path) -> tuple[subprocess.Popen, list[int]]:
     """A process (a session of its own) whose two workers are asleep in a call; their pids."""
     script = textwrap.dedent(f"""
+        import faulthandler, signal, sys
+        # A terminal's process: Ctrl-C raises KeyboardInterrupt. One started by a process that
+        # ignores SIGINT inherits the ignoring; the first line of stderr says which it was.
+        print("SIGINT on start:", signal.getsignal(signal.SIGINT), file=sys.stderr, flush=True)
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        faulthandler.dump_traceback_later(90)  # a hang shows on stderr where each thread waits
         from tests.utils.test_workers import _pid_file_then_sleep
         from legent_gym.utils.workers import map_ordered
         list(map_ordered(_pid_file_then_sleep, [({str(tmp_path)!r}, 0), ({str(tmp_path)!r}, 1)], workers=2))
@@ -154,7 +160,12 @@ def test_workers_end_with_their_parent(tmp_path, how):
         else:  # the terminal's Ctrl-C reaches the whole group; the parent stops the workers
             os.killpg(proc.pid, signal.SIGINT)
             # seconds, not minutes, alone; a loaded 2-core machine has taken over 30
-            assert proc.wait(timeout=120) != 0
+            try:
+                code = proc.wait(timeout=120)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                pytest.fail(f"the parent did not end within 120 s of Ctrl-C; its stderr:\n{proc.stderr.read()}")
+            assert code != 0
             assert proc.stderr.read().count("KeyboardInterrupt") == 1  # the parent's, not one per worker
         assert _gone(pids, timeout=15)
     finally:
