@@ -232,8 +232,8 @@ def euler_deg_quat(rotation) -> np.ndarray:
     return quat
 
 
-def _rotation(rotation) -> np.ndarray:
-    """The 3x3 matrix of a scene object's rotation (degrees, as :func:`euler_deg_quat`)."""
+def euler_deg_matrix(rotation) -> np.ndarray:
+    """The 3x3 matrix of a scene object's rotation (XYZ Euler degrees, as :func:`euler_deg_quat`)."""
     mat = np.empty(9)
     mujoco.mju_quat2Mat(mat, euler_deg_quat(rotation))
     return mat.reshape(3, 3)
@@ -614,19 +614,20 @@ class _SpecBuilder:
         objects = {obj.id: (obj, asset) for obj, asset in zip(self.scene.objects, assets)}
         out: dict[int, list[tuple[ObjectInstance, AssetModel]]] = {}
         for obj, asset in objects.values():
-            support = objects.get(obj.on) if obj.on is not None else None
-            if (obj.on is not None and asset.drawn_with_support and obj.kind == "static" and support is not None
-                    and support[0].kind == "static" and not support[1].drawn_with_support
-                    and len(asset.links) == 1 and asset.links[0].joint is None
-                    and not any(asset.links[0].pos) and not any(p.texture is not None for p in asset.links[0].parts)):
-                out.setdefault(obj.on, []).append((obj, asset))
+            support = objects.get(obj.on) if obj.on is not None and asset.drawn_with_support else None
+            if support is None or obj.kind != "static" or support[0].kind != "static" or support[1].drawn_with_support:
+                continue
+            link = asset.links[0]
+            if (len(asset.links) == 1 and link.joint is None and not any(link.pos)
+                    and all(p.texture is None for p in link.parts)):
+                out.setdefault(support[0].id, []).append((obj, asset))
         return out
 
     def _rider_meshes(self, support: ObjectInstance,
                       riders: Sequence[tuple[ObjectInstance, AssetModel]]) -> list[tuple[ColouredMesh, np.ndarray]]:
         """Each rider's visual mesh with its transform into the support's body frame."""
         to_support = np.eye(4)
-        to_support[:3, :3] = _rotation(support.rotation).T
+        to_support[:3, :3] = euler_deg_matrix(support.rotation).T
         to_support[:3, 3] = -to_support[:3, :3] @ np.asarray(support.position, dtype=np.float64)
         out = []
         for rider, asset in riders:
@@ -634,7 +635,7 @@ class _SpecBuilder:
             if mesh is None:
                 continue
             placed = np.eye(4)
-            placed[:3, :3] = _rotation(rider.rotation)
+            placed[:3, :3] = euler_deg_matrix(rider.rotation)
             placed[:3, 3] = rider.position
             out.append((mesh, to_support @ placed))
         return out

@@ -176,13 +176,13 @@ def test_books_and_cushions_are_drawn_with_the_piece_they_rest_on(houses):
 
 
 def test_meshes_placed_together_keep_each_face_where_and_as_it_was():
-    from legent_gym.world.builder import _rotation
+    from legent_gym.world.builder import euler_deg_matrix
     from legent_gym.world.meshing import link_geometry, placed_together
 
     book = link_geometry(registry.make("shelved_book", 3).base, False).mesh
     shelf = link_geometry(registry.make("bookshelf", 1).base, False).mesh
     matrix = np.eye(4)
-    matrix[:3, :3], matrix[:3, 3] = _rotation((0.0, 0.0, 90.0)), (0.3, -0.1, 0.8)
+    matrix[:3, :3], matrix[:3, 3] = euler_deg_matrix((0.0, 0.0, 90.0)), (0.3, -0.1, 0.8)
     both = placed_together([(shelf, None), (book, matrix)])
     n = len(shelf.vertices)
     assert np.array_equal(both.vertices[:n], shelf.vertices)

@@ -139,7 +139,7 @@ class AssetModel:
     #: Set dressing (books on a shelf, cushions on a sofa): a static object of this asset
     #: resting on a static piece is drawn as part of that piece's mesh, one draw for both;
     #: images, segmentation and view rays show it as that piece, and it keeps its own body
-    #: and collision shapes (the builder's ``_riders``).
+    #: and collision shapes (:mod:`legent_gym.world.builder`).
     drawn_with_support: bool = False
 
     def __post_init__(self) -> None:
